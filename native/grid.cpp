@@ -1,0 +1,38 @@
+#include "grid.h"
+
+#include <algorithm>
+#include <cmath>
+#include <glm/gtc/matrix_transform.hpp>
+#include <string>
+
+#include "error.h"
+#include "shaders/shared.h"
+
+namespace rtsdf {
+
+glm::mat4 GridSpec::world_to_voxel() const {
+  return glm::scale(glm::mat4(1.0f), glm::vec3(1.0f / voxel_size)) * glm::translate(glm::mat4(1.0f), -origin);
+}
+
+GridSpec GridSpec::refined(int factor) const { return GridSpec{origin, voxel_size / float(factor), dims * factor}; }
+
+int margin_voxels(int resolution) { return resolution >= 32 ? 3 : 1; }
+
+GridSpec fit_grid(const Bounds& bounds, int resolution) {
+  const int max_resolution = int(gpu::kMaxGridResolution);
+  if (resolution < 4 || resolution > max_resolution)
+    throw Error("resolution " + std::to_string(resolution) + " is out of range: use 4 to " +
+                std::to_string(max_resolution) + " voxels on the longest axis");
+  const int margin = margin_voxels(resolution);
+  glm::vec3 extent = bounds.extent();
+  float longest = std::max(extent.x, std::max(extent.y, extent.z));
+  GridSpec grid;
+  grid.voxel_size = longest / float(resolution - 2 * margin);
+  for (int a = 0; a < 3; ++a)
+    grid.dims[a] = std::clamp(int(std::ceil(extent[a] / grid.voxel_size - 1e-4f)) + 2 * margin, 1, resolution);
+  glm::vec3 center = 0.5f * (bounds.lo + bounds.hi);
+  grid.origin = center - 0.5f * glm::vec3(grid.dims) * grid.voxel_size;
+  return grid;
+}
+
+}  // namespace rtsdf

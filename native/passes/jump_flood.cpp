@@ -1,0 +1,69 @@
+#include "passes/jump_flood.h"
+
+#include <algorithm>
+
+#include "shaders/shared.h"
+#include "spirv/spirv_jump_flood_comp.h"
+#include "spirv/spirv_seed_distance_comp.h"
+#include "vk/context.h"
+
+namespace rtsdf {
+
+namespace {
+
+void compute_to_compute(VkCommandBuffer cmd) {
+  vk::memory_barrier(cmd, VK_ACCESS_SHADER_WRITE_BIT, VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT,
+                     VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT,
+                     VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT);
+}
+
+void dispatch_grid(VkCommandBuffer cmd, glm::ivec3 dims) {
+  vkCmdDispatch(cmd, vk::group_count(dims.x, RTSDF_GROUP_EDGE), vk::group_count(dims.y, RTSDF_GROUP_EDGE),
+                vk::group_count(dims.z, RTSDF_GROUP_EDGE));
+}
+
+}  // namespace
+
+JumpFloodPass::JumpFloodPass(const vk::Context& context)
+    : flood_(context, RTSDF_SPIRV(spirv_jump_flood_comp),
+             {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE}, sizeof(gpu::JumpFloodPush)),
+      distance_(context, RTSDF_SPIRV(spirv_seed_distance_comp),
+                {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE}, sizeof(gpu::SeedDistancePush)) {}
+
+std::vector<int> JumpFloodPass::steps(glm::ivec3 dims) {
+  int longest = std::max(dims.x, std::max(dims.y, dims.z));
+  int power = 1;
+  while (power < longest) power *= 2;
+  std::vector<int> steps{1};
+  for (int step = std::max(power / 2, 1); step >= 1; step /= 2) steps.push_back(step);
+  return steps;
+}
+
+const vk::Image3D& JumpFloodPass::record_flood(VkCommandBuffer cmd, const vk::Image3D& seeds, const vk::Image3D& a,
+                                               const vk::Image3D& b, vk::GpuTimer* timer) const {
+  const vk::Image3D* source = &seeds;
+  const vk::Image3D* target = &a;
+  const vk::Image3D* spare = &b;
+  flood_.bind(cmd);
+  for (int step : steps(seeds.dims())) {
+    compute_to_compute(cmd);
+    flood_.push_descriptors(cmd, {vk::Resource::storage_image(*source), vk::Resource::storage_image(*target)});
+    flood_.push_constants(cmd, gpu::JumpFloodPush{glm::ivec4(a.dims(), step)});
+    dispatch_grid(cmd, a.dims());
+    if (timer) timer->mark(cmd, "jump_flood step " + std::to_string(step));
+    source = target;
+    std::swap(target, spare);
+  }
+  return *source;
+}
+
+void JumpFloodPass::record_distance(VkCommandBuffer cmd, const vk::Image3D& seeds, const vk::Image3D& distance,
+                                    float voxel_size, float beta_world) const {
+  compute_to_compute(cmd);
+  distance_.bind(cmd);
+  distance_.push_descriptors(cmd, {vk::Resource::storage_image(seeds), vk::Resource::storage_image(distance)});
+  distance_.push_constants(cmd, gpu::SeedDistancePush{glm::ivec4(seeds.dims(), 0), glm::vec4(voxel_size, beta_world, 0, 0)});
+  dispatch_grid(cmd, seeds.dims());
+}
+
+}  // namespace rtsdf

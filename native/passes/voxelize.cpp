@@ -1,0 +1,66 @@
+#include "passes/voxelize.h"
+
+#include <algorithm>
+
+#include "shaders/shared.h"
+#include "spirv/spirv_voxelize_frag.h"
+#include "spirv/spirv_voxelize_vert.h"
+#include "vk/context.h"
+
+namespace rtsdf {
+
+VoxelizePass::VoxelizePass(const vk::Context& context)
+    : context_(context),
+      pipeline_(context, RTSDF_SPIRV(spirv_voxelize_vert), RTSDF_SPIRV(spirv_voxelize_frag),
+                {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
+                sizeof(gpu::VoxelizePush)) {}
+
+void VoxelizePass::record(VkCommandBuffer cmd, const GpuScene& scene, const GridSpec& grid,
+                          const vk::Image3D& seeds) {
+  // Each triangle is drawn along its own dominant axis into one square
+  // framebuffer big enough for any face of the grid.
+  uint32_t edge = uint32_t(std::max(grid.dims.x, std::max(grid.dims.y, grid.dims.z)));
+  if (!framebuffer_ || framebuffer_edge_ != edge) {
+    framebuffer_ = std::make_unique<vk::EmptyFramebuffer>(context_, pipeline_.render_pass(), edge, edge);
+    framebuffer_edge_ = edge;
+  }
+
+  VkClearColorValue empty{};
+  empty.uint32[0] = gpu::kNoSeed;
+  VkImageSubresourceRange all{VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+  vk::memory_barrier(cmd, VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
+                     VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT,
+                     VK_PIPELINE_STAGE_TRANSFER_BIT);
+  vkCmdClearColorImage(cmd, seeds.handle(), VK_IMAGE_LAYOUT_GENERAL, &empty, 1, &all);
+  vk::memory_barrier(cmd, VK_ACCESS_TRANSFER_WRITE_BIT, VK_ACCESS_SHADER_WRITE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT,
+                     VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT);
+
+  VkRenderPassBeginInfo begin{VK_STRUCTURE_TYPE_RENDER_PASS_BEGIN_INFO};
+  begin.renderPass = pipeline_.render_pass();
+  begin.framebuffer = framebuffer_->handle();
+  begin.renderArea = {{0, 0}, {edge, edge}};
+  vkCmdBeginRenderPass(cmd, &begin, VK_SUBPASS_CONTENTS_INLINE);
+  VkViewport viewport{0.0f, 0.0f, float(edge), float(edge), 0.0f, 1.0f};
+  VkRect2D scissor{{0, 0}, {edge, edge}};
+  vkCmdSetViewport(cmd, 0, 1, &viewport);
+  vkCmdSetScissor(cmd, 0, 1, &scissor);
+  pipeline_.bind(cmd);
+  pipeline_.push_descriptors(cmd, {vk::Resource::storage_buffer(scene.positions()),
+                                   vk::Resource::storage_buffer(scene.indices()),
+                                   vk::Resource::storage_image(seeds)});
+  const glm::mat4 world_to_voxel = grid.world_to_voxel();
+  for (const Instance& instance : scene.instances()) {
+    const GpuMeshRange& mesh = scene.meshes()[instance.mesh];
+    if (mesh.triangle_count == 0) continue;
+    gpu::VoxelizePush push{};
+    push.object_to_voxel = world_to_voxel * instance.object_to_world;
+    push.dims = glm::ivec4(grid.dims, int(edge));
+    push.first_index = mesh.first_index;
+    push.base_vertex = mesh.base_vertex;
+    pipeline_.push_constants(cmd, push);
+    vkCmdDraw(cmd, 3 * mesh.triangle_count, 1, 0, 0);
+  }
+  vkCmdEndRenderPass(cmd);
+}
+
+}  // namespace rtsdf

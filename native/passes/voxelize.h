@@ -1,0 +1,25 @@
+#pragma once
+// Pass 1a: rasterized voxelization. Every voxel that a triangle passes through
+// becomes a seed holding its own packed index; the rest hold kNoSeed.
+#include <memory>
+
+#include "grid.h"
+#include "gpu_scene.h"
+#include "vk/pipeline.h"
+
+namespace rtsdf {
+
+class VoxelizePass {
+ public:
+  explicit VoxelizePass(const vk::Context& context);
+  // `seeds` must be an r32ui storage image of the grid's dims in GENERAL layout.
+  void record(VkCommandBuffer cmd, const GpuScene& scene, const GridSpec& grid, const vk::Image3D& seeds);
+
+ private:
+  const vk::Context& context_;
+  vk::Pipeline pipeline_;
+  std::unique_ptr<vk::EmptyFramebuffer> framebuffer_;
+  uint32_t framebuffer_edge_ = 0;
+};
+
+}  // namespace rtsdf

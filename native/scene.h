@@ -1,0 +1,45 @@
+#pragma once
+// The scene as the native side sees it: meshes in object space and instances
+// placing them in the world. Units are world units throughout.
+#include <cstdint>
+#include <glm/glm.hpp>
+#include <string>
+#include <vector>
+
+namespace rtsdf {
+
+struct Mesh {
+  std::string name;
+  std::vector<glm::vec3> positions;
+  std::vector<uint32_t> indices;  // three per triangle
+  size_t triangle_count() const { return indices.size() / 3; }
+};
+
+struct Instance {
+  uint32_t mesh = 0;
+  glm::mat4 object_to_world{1.0f};
+};
+
+struct Bounds {
+  glm::vec3 lo{0.0f};
+  glm::vec3 hi{0.0f};
+  glm::vec3 extent() const { return hi - lo; }
+};
+
+struct Scene {
+  std::vector<Mesh> meshes;
+  std::vector<Instance> instances;
+
+  // Triangles drawn, counting every instance.
+  size_t triangle_count() const;
+  // Throws rtsdf::Error for anything the pipeline cannot use: no triangles,
+  // NaN or infinite coordinates or transforms, indices out of range.
+  void validate() const;
+  // World-space bounds of every instanced vertex; call validate() first.
+  Bounds world_bounds() const;
+};
+
+// A scene holding one mesh once, untransformed.
+Scene single_mesh_scene(Mesh mesh);
+
+}  // namespace rtsdf

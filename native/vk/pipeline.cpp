@@ -1,0 +1,202 @@
+#include "vk/pipeline.h"
+
+#include "vk/context.h"
+#include "vk/resources.h"
+
+namespace rtsdf::vk {
+
+namespace {
+
+class ShaderModule {
+ public:
+  ShaderModule(VkDevice device, Spirv code) : device_(device) {
+    VkShaderModuleCreateInfo info{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
+    info.codeSize = code.bytes;
+    info.pCode = code.words;
+    VK_CHECK(vkCreateShaderModule(device_, &info, nullptr, &module_));
+  }
+  ~ShaderModule() { vkDestroyShaderModule(device_, module_, nullptr); }
+  ShaderModule(const ShaderModule&) = delete;
+  ShaderModule& operator=(const ShaderModule&) = delete;
+  VkShaderModule handle() const { return module_; }
+
+ private:
+  VkDevice device_;
+  VkShaderModule module_ = VK_NULL_HANDLE;
+};
+
+VkPipelineShaderStageCreateInfo stage_info(VkShaderStageFlagBits stage, const ShaderModule& module) {
+  VkPipelineShaderStageCreateInfo info{VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO};
+  info.stage = stage;
+  info.module = module.handle();
+  info.pName = "main";
+  return info;
+}
+
+}  // namespace
+
+Resource Resource::storage_image(const Image3D& image) {
+  Resource r{VK_DESCRIPTOR_TYPE_STORAGE_IMAGE};
+  r.image = {VK_NULL_HANDLE, image.view(), VK_IMAGE_LAYOUT_GENERAL};
+  return r;
+}
+
+Resource Resource::storage_buffer(const Buffer& buffer) {
+  Resource r{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER};
+  r.buffer = {buffer.handle(), 0, VK_WHOLE_SIZE};
+  return r;
+}
+
+Resource Resource::sampled_image(VkImageView view, VkSampler sampler) {
+  Resource r{VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER};
+  r.image = {sampler, view, VK_IMAGE_LAYOUT_GENERAL};
+  return r;
+}
+
+void Pipeline::create_layout(std::vector<VkDescriptorType> bindings, uint32_t push_bytes, VkShaderStageFlags stages) {
+  stages_ = stages;
+  std::vector<VkDescriptorSetLayoutBinding> layout_bindings;
+  for (uint32_t i = 0; i < bindings.size(); ++i) layout_bindings.push_back({i, bindings[i], 1, stages, nullptr});
+  VkDescriptorSetLayoutCreateInfo set_info{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
+  set_info.flags = VK_DESCRIPTOR_SET_LAYOUT_CREATE_PUSH_DESCRIPTOR_BIT_KHR;
+  set_info.bindingCount = uint32_t(layout_bindings.size());
+  set_info.pBindings = layout_bindings.data();
+  VK_CHECK(vkCreateDescriptorSetLayout(device_, &set_info, nullptr, &set_layout_));
+  VkPushConstantRange range{stages, 0, push_bytes};
+  VkPipelineLayoutCreateInfo layout_info{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
+  layout_info.setLayoutCount = 1;
+  layout_info.pSetLayouts = &set_layout_;
+  layout_info.pushConstantRangeCount = push_bytes > 0 ? 1 : 0;
+  layout_info.pPushConstantRanges = &range;
+  VK_CHECK(vkCreatePipelineLayout(device_, &layout_info, nullptr, &layout_));
+}
+
+Pipeline::Pipeline(const Context& context, Spirv compute, std::vector<VkDescriptorType> bindings,
+                   uint32_t push_bytes)
+    : device_(context.device()), bind_point_(VK_PIPELINE_BIND_POINT_COMPUTE) {
+  try {
+    create_layout(std::move(bindings), push_bytes, VK_SHADER_STAGE_COMPUTE_BIT);
+    ShaderModule module(device_, compute);
+    VkComputePipelineCreateInfo info{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
+    info.stage = stage_info(VK_SHADER_STAGE_COMPUTE_BIT, module);
+    info.layout = layout_;
+    VK_CHECK(vkCreateComputePipelines(device_, VK_NULL_HANDLE, 1, &info, nullptr, &pipeline_));
+  } catch (...) {
+    release();
+    throw;
+  }
+}
+
+Pipeline::Pipeline(const Context& context, Spirv vertex, Spirv fragment, std::vector<VkDescriptorType> bindings,
+                   uint32_t push_bytes)
+    : device_(context.device()), bind_point_(VK_PIPELINE_BIND_POINT_GRAPHICS) {
+  try {
+    create_layout(std::move(bindings), push_bytes, VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT);
+
+    VkSubpassDescription subpass{};
+    subpass.pipelineBindPoint = VK_PIPELINE_BIND_POINT_GRAPHICS;
+    VkSubpassDependency after{};  // storage writes visible to later compute and transfer
+    after.srcSubpass = 0;
+    after.dstSubpass = VK_SUBPASS_EXTERNAL;
+    after.srcStageMask = VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT;
+    after.dstStageMask = VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT;
+    after.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT;
+    after.dstAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_READ_BIT;
+    VkRenderPassCreateInfo pass_info{VK_STRUCTURE_TYPE_RENDER_PASS_CREATE_INFO};
+    pass_info.subpassCount = 1;
+    pass_info.pSubpasses = &subpass;
+    pass_info.dependencyCount = 1;
+    pass_info.pDependencies = &after;
+    VK_CHECK(vkCreateRenderPass(device_, &pass_info, nullptr, &render_pass_));
+
+    ShaderModule vs(device_, vertex), fs(device_, fragment);
+    VkPipelineShaderStageCreateInfo stages[] = {stage_info(VK_SHADER_STAGE_VERTEX_BIT, vs),
+                                                stage_info(VK_SHADER_STAGE_FRAGMENT_BIT, fs)};
+    VkPipelineVertexInputStateCreateInfo vertex_input{VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO};
+    VkPipelineInputAssemblyStateCreateInfo assembly{VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO};
+    assembly.topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST;
+    VkPipelineViewportStateCreateInfo viewport{VK_STRUCTURE_TYPE_PIPELINE_VIEWPORT_STATE_CREATE_INFO};
+    viewport.viewportCount = 1;
+    viewport.scissorCount = 1;
+    VkPipelineRasterizationStateCreateInfo raster{VK_STRUCTURE_TYPE_PIPELINE_RASTERIZATION_STATE_CREATE_INFO};
+    raster.polygonMode = VK_POLYGON_MODE_FILL;
+    raster.cullMode = VK_CULL_MODE_NONE;
+    raster.lineWidth = 1.0f;
+    VkPipelineMultisampleStateCreateInfo multisample{VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO};
+    multisample.rasterizationSamples = VK_SAMPLE_COUNT_1_BIT;
+    VkPipelineDepthStencilStateCreateInfo depth{VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO};
+    VkPipelineColorBlendStateCreateInfo blend{VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO};
+    VkDynamicState dynamic_states[] = {VK_DYNAMIC_STATE_VIEWPORT, VK_DYNAMIC_STATE_SCISSOR};
+    VkPipelineDynamicStateCreateInfo dynamic{VK_STRUCTURE_TYPE_PIPELINE_DYNAMIC_STATE_CREATE_INFO};
+    dynamic.dynamicStateCount = 2;
+    dynamic.pDynamicStates = dynamic_states;
+
+    VkGraphicsPipelineCreateInfo info{VK_STRUCTURE_TYPE_GRAPHICS_PIPELINE_CREATE_INFO};
+    info.stageCount = 2;
+    info.pStages = stages;
+    info.pVertexInputState = &vertex_input;
+    info.pInputAssemblyState = &assembly;
+    info.pViewportState = &viewport;
+    info.pRasterizationState = &raster;
+    info.pMultisampleState = &multisample;
+    info.pDepthStencilState = &depth;
+    info.pColorBlendState = &blend;
+    info.pDynamicState = &dynamic;
+    info.layout = layout_;
+    info.renderPass = render_pass_;
+    VK_CHECK(vkCreateGraphicsPipelines(device_, VK_NULL_HANDLE, 1, &info, nullptr, &pipeline_));
+  } catch (...) {
+    release();
+    throw;
+  }
+}
+
+Pipeline::~Pipeline() { release(); }
+
+void Pipeline::release() {
+  if (pipeline_) vkDestroyPipeline(device_, pipeline_, nullptr);
+  if (render_pass_) vkDestroyRenderPass(device_, render_pass_, nullptr);
+  if (layout_) vkDestroyPipelineLayout(device_, layout_, nullptr);
+  if (set_layout_) vkDestroyDescriptorSetLayout(device_, set_layout_, nullptr);
+  pipeline_ = VK_NULL_HANDLE;
+  render_pass_ = VK_NULL_HANDLE;
+  layout_ = VK_NULL_HANDLE;
+  set_layout_ = VK_NULL_HANDLE;
+}
+
+void Pipeline::bind(VkCommandBuffer cmd) const { vkCmdBindPipeline(cmd, bind_point_, pipeline_); }
+
+void Pipeline::push_descriptors(VkCommandBuffer cmd, std::initializer_list<Resource> resources) const {
+  std::vector<VkWriteDescriptorSet> writes;
+  uint32_t binding = 0;
+  for (const Resource& r : resources) {
+    VkWriteDescriptorSet write{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
+    write.dstBinding = binding++;
+    write.descriptorCount = 1;
+    write.descriptorType = r.type;
+    if (r.type == VK_DESCRIPTOR_TYPE_STORAGE_BUFFER)
+      write.pBufferInfo = &r.buffer;
+    else
+      write.pImageInfo = &r.image;
+    writes.push_back(write);
+  }
+  vkCmdPushDescriptorSetKHR(cmd, bind_point_, layout_, 0, uint32_t(writes.size()), writes.data());
+}
+
+void Pipeline::push_constant_bytes(VkCommandBuffer cmd, const void* data, uint32_t bytes) const {
+  vkCmdPushConstants(cmd, layout_, stages_, 0, bytes, data);
+}
+
+EmptyFramebuffer::EmptyFramebuffer(const Context& context, VkRenderPass pass, uint32_t width, uint32_t height)
+    : device_(context.device()) {
+  VkFramebufferCreateInfo info{VK_STRUCTURE_TYPE_FRAMEBUFFER_CREATE_INFO};
+  info.renderPass = pass;
+  info.width = width;
+  info.height = height;
+  info.layers = 1;
+  VK_CHECK(vkCreateFramebuffer(device_, &info, nullptr, &framebuffer_));
+}
+
+EmptyFramebuffer::~EmptyFramebuffer() { vkDestroyFramebuffer(device_, framebuffer_, nullptr); }
+
+}  // namespace rtsdf::vk

@@ -1,0 +1,84 @@
+#pragma once
+// Compute and graphics pipelines whose resources are bound with push
+// descriptors (binding i = i-th resource passed to push_descriptors).
+#include <volk.h>
+
+#include <cstddef>
+#include <cstdint>
+#include <initializer_list>
+#include <vector>
+
+namespace rtsdf::vk {
+
+class Context;
+class Buffer;
+class Image3D;
+
+struct Spirv {
+  const uint32_t* words;
+  size_t bytes;
+};
+#define RTSDF_SPIRV(symbol) ::rtsdf::vk::Spirv{symbol, sizeof(symbol)}
+
+struct Resource {
+  VkDescriptorType type;
+  VkDescriptorImageInfo image{};
+  VkDescriptorBufferInfo buffer{};
+  static Resource storage_image(const Image3D& image);
+  static Resource storage_buffer(const Buffer& buffer);
+  static Resource sampled_image(VkImageView view, VkSampler sampler);
+};
+
+class Pipeline {
+ public:
+  // A compute pipeline.
+  Pipeline(const Context& context, Spirv compute, std::vector<VkDescriptorType> bindings, uint32_t push_bytes);
+  // A graphics pipeline drawing triangle lists into a render pass without
+  // attachments: all output goes through storage writes. Viewport and scissor
+  // are dynamic.
+  Pipeline(const Context& context, Spirv vertex, Spirv fragment, std::vector<VkDescriptorType> bindings,
+           uint32_t push_bytes);
+  ~Pipeline();
+  Pipeline(const Pipeline&) = delete;
+  Pipeline& operator=(const Pipeline&) = delete;
+
+  void bind(VkCommandBuffer cmd) const;
+  void push_descriptors(VkCommandBuffer cmd, std::initializer_list<Resource> resources) const;
+  template <typename T>
+  void push_constants(VkCommandBuffer cmd, const T& value) const {
+    push_constant_bytes(cmd, &value, sizeof(T));
+  }
+  VkRenderPass render_pass() const { return render_pass_; }
+
+ private:
+  void create_layout(std::vector<VkDescriptorType> bindings, uint32_t push_bytes, VkShaderStageFlags stages);
+  void push_constant_bytes(VkCommandBuffer cmd, const void* data, uint32_t bytes) const;
+  void release();
+
+  VkDevice device_;
+  VkPipelineBindPoint bind_point_;
+  VkShaderStageFlags stages_ = 0;
+  VkDescriptorSetLayout set_layout_ = VK_NULL_HANDLE;
+  VkPipelineLayout layout_ = VK_NULL_HANDLE;
+  VkRenderPass render_pass_ = VK_NULL_HANDLE;
+  VkPipeline pipeline_ = VK_NULL_HANDLE;
+};
+
+// A framebuffer with no attachments, for Pipeline's graphics form.
+class EmptyFramebuffer {
+ public:
+  EmptyFramebuffer(const Context& context, VkRenderPass pass, uint32_t width, uint32_t height);
+  ~EmptyFramebuffer();
+  EmptyFramebuffer(const EmptyFramebuffer&) = delete;
+  EmptyFramebuffer& operator=(const EmptyFramebuffer&) = delete;
+  VkFramebuffer handle() const { return framebuffer_; }
+
+ private:
+  VkDevice device_;
+  VkFramebuffer framebuffer_ = VK_NULL_HANDLE;
+};
+
+// Work groups needed to cover `count` items with groups of `group`.
+inline uint32_t group_count(int count, int group) { return uint32_t((count + group - 1) / group); }
+
+}  // namespace rtsdf::vk

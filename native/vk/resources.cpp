@@ -1,0 +1,185 @@
+#include "vk/resources.h"
+
+#include <cstring>
+#include <utility>
+
+#include "vk/context.h"
+
+namespace rtsdf::vk {
+
+namespace {
+
+VkDeviceMemory allocate(const Context& context, const VkMemoryRequirements& requirements,
+                        VkMemoryPropertyFlags flags) {
+  VkMemoryAllocateInfo info{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
+  info.allocationSize = requirements.size;
+  info.memoryTypeIndex = context.memory_type(requirements.memoryTypeBits, flags);
+  VkDeviceMemory memory = VK_NULL_HANDLE;
+  VkResult result = vkAllocateMemory(context.device(), &info, nullptr, &memory);
+  if (result != VK_SUCCESS)
+    throw Error("could not allocate " + std::to_string(requirements.size >> 20) + " MiB on the Vulkan device (" +
+                result_name(result) + "): lower the resolution");
+  return memory;
+}
+
+}  // namespace
+
+Buffer::Buffer(const Context& context, VkDeviceSize size, VkBufferUsageFlags usage, Access access)
+    : device_(context.device()), size_(size) {
+  VkBufferCreateInfo info{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
+  info.size = size > 0 ? size : 4;
+  info.usage = usage;
+  info.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
+  VK_CHECK(vkCreateBuffer(device_, &info, nullptr, &buffer_));
+  try {
+    VkMemoryRequirements requirements;
+    vkGetBufferMemoryRequirements(device_, buffer_, &requirements);
+    VkMemoryPropertyFlags flags = access == Access::HostVisible
+                                      ? VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT
+                                      : VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT;
+    memory_ = allocate(context, requirements, flags);
+    VK_CHECK(vkBindBufferMemory(device_, buffer_, memory_, 0));
+    if (access == Access::HostVisible) VK_CHECK(vkMapMemory(device_, memory_, 0, VK_WHOLE_SIZE, 0, &mapped_));
+  } catch (...) {
+    release();
+    throw;
+  }
+}
+
+Buffer::~Buffer() { release(); }
+
+Buffer::Buffer(Buffer&& other) noexcept { *this = std::move(other); }
+
+Buffer& Buffer::operator=(Buffer&& other) noexcept {
+  if (this != &other) {
+    release();
+    device_ = std::exchange(other.device_, VK_NULL_HANDLE);
+    buffer_ = std::exchange(other.buffer_, VK_NULL_HANDLE);
+    memory_ = std::exchange(other.memory_, VK_NULL_HANDLE);
+    size_ = std::exchange(other.size_, 0);
+    mapped_ = std::exchange(other.mapped_, nullptr);
+  }
+  return *this;
+}
+
+void Buffer::release() {
+  if (buffer_) vkDestroyBuffer(device_, buffer_, nullptr);
+  if (memory_) vkFreeMemory(device_, memory_, nullptr);  // also unmaps
+  buffer_ = VK_NULL_HANDLE;
+  memory_ = VK_NULL_HANDLE;
+  mapped_ = nullptr;
+}
+
+Image3D::Image3D(const Context& context, glm::ivec3 dims, VkFormat format, VkImageUsageFlags usage)
+    : device_(context.device()), dims_(dims), format_(format) {
+  VkImageCreateInfo info{VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO};
+  info.imageType = VK_IMAGE_TYPE_3D;
+  info.format = format;
+  info.extent = {uint32_t(dims.x), uint32_t(dims.y), uint32_t(dims.z)};
+  info.mipLevels = 1;
+  info.arrayLayers = 1;
+  info.samples = VK_SAMPLE_COUNT_1_BIT;
+  info.tiling = VK_IMAGE_TILING_OPTIMAL;
+  info.usage = usage;
+  info.initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
+  VK_CHECK(vkCreateImage(device_, &info, nullptr, &image_));
+  try {
+    VkMemoryRequirements requirements;
+    vkGetImageMemoryRequirements(device_, image_, &requirements);
+    memory_ = allocate(context, requirements, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
+    VK_CHECK(vkBindImageMemory(device_, image_, memory_, 0));
+    VkImageViewCreateInfo view{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
+    view.image = image_;
+    view.viewType = VK_IMAGE_VIEW_TYPE_3D;
+    view.format = format;
+    view.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+    VK_CHECK(vkCreateImageView(device_, &view, nullptr, &view_));
+  } catch (...) {
+    release();
+    throw;
+  }
+}
+
+Image3D::~Image3D() { release(); }
+
+Image3D::Image3D(Image3D&& other) noexcept { *this = std::move(other); }
+
+Image3D& Image3D::operator=(Image3D&& other) noexcept {
+  if (this != &other) {
+    release();
+    device_ = std::exchange(other.device_, VK_NULL_HANDLE);
+    image_ = std::exchange(other.image_, VK_NULL_HANDLE);
+    view_ = std::exchange(other.view_, VK_NULL_HANDLE);
+    memory_ = std::exchange(other.memory_, VK_NULL_HANDLE);
+    dims_ = std::exchange(other.dims_, glm::ivec3(0));
+    format_ = std::exchange(other.format_, VK_FORMAT_UNDEFINED);
+  }
+  return *this;
+}
+
+void Image3D::release() {
+  if (view_) vkDestroyImageView(device_, view_, nullptr);
+  if (image_) vkDestroyImage(device_, image_, nullptr);
+  if (memory_) vkFreeMemory(device_, memory_, nullptr);
+  view_ = VK_NULL_HANDLE;
+  image_ = VK_NULL_HANDLE;
+  memory_ = VK_NULL_HANDLE;
+}
+
+Buffer upload_buffer(const Context& context, const void* data, VkDeviceSize size, VkBufferUsageFlags usage) {
+  Buffer staging(context, size, VK_BUFFER_USAGE_TRANSFER_SRC_BIT, Buffer::Access::HostVisible);
+  if (size > 0) std::memcpy(staging.mapped(), data, size);
+  Buffer buffer(context, size, usage | VK_BUFFER_USAGE_TRANSFER_DST_BIT, Buffer::Access::DeviceOnly);
+  if (size > 0)
+    context.submit_and_wait([&](VkCommandBuffer cmd) {
+      VkBufferCopy region{0, 0, size};
+      vkCmdCopyBuffer(cmd, staging.handle(), buffer.handle(), 1, &region);
+    });
+  return buffer;
+}
+
+void image_barrier(VkCommandBuffer cmd, VkImage image, VkImageLayout from, VkImageLayout to,
+                   VkAccessFlags src_access, VkAccessFlags dst_access, VkPipelineStageFlags src_stage,
+                   VkPipelineStageFlags dst_stage) {
+  VkImageMemoryBarrier barrier{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER};
+  barrier.srcAccessMask = src_access;
+  barrier.dstAccessMask = dst_access;
+  barrier.oldLayout = from;
+  barrier.newLayout = to;
+  barrier.srcQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+  barrier.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+  barrier.image = image;
+  barrier.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+  vkCmdPipelineBarrier(cmd, src_stage, dst_stage, 0, 0, nullptr, 0, nullptr, 1, &barrier);
+}
+
+void memory_barrier(VkCommandBuffer cmd, VkAccessFlags src_access, VkAccessFlags dst_access,
+                    VkPipelineStageFlags src_stage, VkPipelineStageFlags dst_stage) {
+  VkMemoryBarrier barrier{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
+  barrier.srcAccessMask = src_access;
+  barrier.dstAccessMask = dst_access;
+  vkCmdPipelineBarrier(cmd, src_stage, dst_stage, 0, 1, &barrier, 0, nullptr, 0, nullptr);
+}
+
+Buffer download_image(const Context& context, const Image3D& image, VkDeviceSize bytes_per_texel) {
+  Buffer readback(context, image.texel_count() * bytes_per_texel, VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                  Buffer::Access::HostVisible);
+  context.submit_and_wait([&](VkCommandBuffer cmd) {
+    image_barrier(cmd, image.handle(), VK_IMAGE_LAYOUT_GENERAL, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
+                  VK_ACCESS_SHADER_WRITE_BIT, VK_ACCESS_TRANSFER_READ_BIT,
+                  VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT,
+                  VK_PIPELINE_STAGE_TRANSFER_BIT);
+    VkBufferImageCopy region{};
+    region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+    region.imageExtent = {uint32_t(image.dims().x), uint32_t(image.dims().y), uint32_t(image.dims().z)};
+    vkCmdCopyImageToBuffer(cmd, image.handle(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, readback.handle(), 1, &region);
+    image_barrier(cmd, image.handle(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, VK_IMAGE_LAYOUT_GENERAL,
+                  VK_ACCESS_TRANSFER_READ_BIT, VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT,
+                  VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT);
+    memory_barrier(cmd, VK_ACCESS_TRANSFER_WRITE_BIT, VK_ACCESS_HOST_READ_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT,
+                   VK_PIPELINE_STAGE_HOST_BIT);
+  });
+  return readback;
+}
+
+}  // namespace rtsdf::vk

@@ -1,0 +1,78 @@
+#pragma once
+// Owned device resources. Each object frees what it allocated; nothing is
+// destroyed by hand at call sites.
+#include <volk.h>
+
+#include <cstddef>
+#include <glm/glm.hpp>
+
+namespace rtsdf::vk {
+
+class Context;
+
+class Buffer {
+ public:
+  enum class Access { DeviceOnly, HostVisible };
+  Buffer() = default;
+  Buffer(const Context& context, VkDeviceSize size, VkBufferUsageFlags usage, Access access);
+  ~Buffer();
+  Buffer(Buffer&& other) noexcept;
+  Buffer& operator=(Buffer&& other) noexcept;
+  Buffer(const Buffer&) = delete;
+  Buffer& operator=(const Buffer&) = delete;
+
+  VkBuffer handle() const { return buffer_; }
+  VkDeviceSize size() const { return size_; }
+  void* mapped() const { return mapped_; }  // host-visible buffers only
+  explicit operator bool() const { return buffer_ != VK_NULL_HANDLE; }
+
+ private:
+  void release();
+  VkDevice device_ = VK_NULL_HANDLE;
+  VkBuffer buffer_ = VK_NULL_HANDLE;
+  VkDeviceMemory memory_ = VK_NULL_HANDLE;
+  VkDeviceSize size_ = 0;
+  void* mapped_ = nullptr;
+};
+
+// A 3D single-channel storage image (seed indices or distances).
+class Image3D {
+ public:
+  Image3D() = default;
+  Image3D(const Context& context, glm::ivec3 dims, VkFormat format, VkImageUsageFlags usage);
+  ~Image3D();
+  Image3D(Image3D&& other) noexcept;
+  Image3D& operator=(Image3D&& other) noexcept;
+  Image3D(const Image3D&) = delete;
+  Image3D& operator=(const Image3D&) = delete;
+
+  VkImage handle() const { return image_; }
+  VkImageView view() const { return view_; }
+  glm::ivec3 dims() const { return dims_; }
+  VkFormat format() const { return format_; }
+  VkDeviceSize texel_count() const { return VkDeviceSize(dims_.x) * dims_.y * dims_.z; }
+
+ private:
+  void release();
+  VkDevice device_ = VK_NULL_HANDLE;
+  VkImage image_ = VK_NULL_HANDLE;
+  VkImageView view_ = VK_NULL_HANDLE;
+  VkDeviceMemory memory_ = VK_NULL_HANDLE;
+  glm::ivec3 dims_{0};
+  VkFormat format_ = VK_FORMAT_UNDEFINED;
+};
+
+// Uploads host data into a new device-local buffer through a staging copy.
+Buffer upload_buffer(const Context& context, const void* data, VkDeviceSize size, VkBufferUsageFlags usage);
+
+// Barrier helpers for the common "previous writes visible to next reads" case.
+void image_barrier(VkCommandBuffer cmd, VkImage image, VkImageLayout from, VkImageLayout to,
+                   VkAccessFlags src_access, VkAccessFlags dst_access, VkPipelineStageFlags src_stage,
+                   VkPipelineStageFlags dst_stage);
+void memory_barrier(VkCommandBuffer cmd, VkAccessFlags src_access, VkAccessFlags dst_access,
+                    VkPipelineStageFlags src_stage, VkPipelineStageFlags dst_stage);
+
+// Copies a whole 3D image (in GENERAL layout) into a host-visible buffer and returns it.
+Buffer download_image(const Context& context, const Image3D& image, VkDeviceSize bytes_per_texel);
+
+}  // namespace rtsdf::vk
