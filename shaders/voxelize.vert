@@ -18,9 +18,10 @@ void main() {
   uint axis = dominant_axis(cross(p1 - p0, p2 - p0));
   vec2 q[3] = vec2[3](to_view(p0, axis).xy, to_view(p1, axis).xy, to_view(p2, axis).xy);
 
-  // A pixel overlaps the triangle's box iff its centre lies in the box grown by half a pixel.
-  vec2 lo = min(min(q[0], q[1]), q[2]) - 0.5;
-  vec2 hi = max(max(q[0], q[1]), q[2]) + 0.5;
+  // A pixel overlaps the triangle's box iff its centre lies in the box grown by
+  // half a pixel (and a hair, so that touching survives rounding).
+  vec2 lo = min(min(q[0], q[1]), q[2]) - 0.501;
+  vec2 hi = max(max(q[0], q[1]), q[2]) + 0.501;
   v_clip_rect = vec4(lo, hi);
   v_axis = axis;
 
@@ -38,7 +39,8 @@ void main() {
     vec3 edge[3];
     for (int i = 0; i < 3; ++i) {
       vec3 line = orientation * cross(vec3(q[i], 1.0), vec3(q[(i + 1) % 3], 1.0));
-      line.z += 0.501 * (abs(line.x) + abs(line.y));  // a hair more than half: float safety
+      // A little more than half a pixel: vertices snap to 1/256 pixel when rasterized.
+      line.z += 0.51 * (abs(line.x) + abs(line.y));
       edge[i] = line;
     }
     vec3 h = cross(edge[(corner + 2u) % 3u], edge[corner]);

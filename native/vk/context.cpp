@@ -116,7 +116,9 @@ VkInstance create_instance(bool validation) {
   if (result == VK_ERROR_INCOMPATIBLE_DRIVER)
     throw Error("no Vulkan 1.2 driver found: install a GPU driver or mesa-vulkan-drivers (lavapipe)");
   VK_CHECK(result);
-  volkLoadInstanceOnly(instance);
+  // Instance and device functions through the loader's trampolines: they
+  // dispatch on the handle, so several contexts (and devices) can coexist.
+  volkLoadInstance(instance);
   return instance;
 }
 
@@ -215,7 +217,12 @@ Context::Context(const ContextOptions& options) {
                          VK_DEBUG_UTILS_MESSAGE_TYPE_PERFORMANCE_BIT_EXT;
       info.pfnUserCallback = &Context::on_validation_message;
       info.pUserData = this;
-      VK_CHECK(vkCreateDebugUtilsMessengerEXT(instance_, &info, nullptr, &messenger_));
+      auto create_messenger = reinterpret_cast<PFN_vkCreateDebugUtilsMessengerEXT>(
+          vkGetInstanceProcAddr(instance_, "vkCreateDebugUtilsMessengerEXT"));
+      destroy_messenger_ = reinterpret_cast<PFN_vkDestroyDebugUtilsMessengerEXT>(
+          vkGetInstanceProcAddr(instance_, "vkDestroyDebugUtilsMessengerEXT"));
+      if (!create_messenger || !destroy_messenger_) throw Error("VK_EXT_debug_utils is not available");
+      VK_CHECK(create_messenger(instance_, &info, nullptr, &messenger_));
     }
     physical_device_ = pick_device(instance_, options.device_name);
     info_ = describe(physical_device_);
@@ -249,7 +256,6 @@ Context::Context(const ContextOptions& options) {
     device_info.enabledExtensionCount = 1;
     device_info.ppEnabledExtensionNames = extensions;
     VK_CHECK(vkCreateDevice(physical_device_, &device_info, nullptr, &device_));
-    volkLoadDevice(device_);
     vkGetDeviceQueue(device_, queue_family_, 0, &queue_);
 
     VkCommandPoolCreateInfo pool_info{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
@@ -271,7 +277,7 @@ void Context::release() {
     vkDestroyDevice(device_, nullptr);
     device_ = VK_NULL_HANDLE;
   }
-  if (messenger_) vkDestroyDebugUtilsMessengerEXT(instance_, messenger_, nullptr);
+  if (messenger_) destroy_messenger_(instance_, messenger_, nullptr);
   messenger_ = VK_NULL_HANDLE;
   if (instance_) vkDestroyInstance(instance_, nullptr);
   instance_ = VK_NULL_HANDLE;

@@ -1,0 +1,88 @@
+// Bad input ends in a clear rtsdf::Error, never a crash.
+#include <cmath>
+#include <limits>
+
+#include "coarse_sdf.h"
+#include "mesh_import.h"
+#include "reference/shapes.h"
+#include "vulkan_test.h"
+
+namespace rtsdf {
+namespace {
+
+std::string error_of(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const Error& e) {
+    return e.what();
+  }
+  return "";
+}
+
+class InputErrors : public testing::VulkanTest {};
+
+TEST_F(InputErrors, EmptySceneAndMeshWithoutTriangles) {
+  EXPECT_NE(error_of([] { Scene().validate(); }).find("no triangles"), std::string::npos);
+  Mesh points;
+  points.name = "points";
+  points.positions = {{0, 0, 0}, {1, 1, 1}};
+  EXPECT_NE(error_of([&] { single_mesh_scene(points).validate(); }).find("no triangles"), std::string::npos);
+}
+
+TEST_F(InputErrors, NonFiniteAndHugeCoordinates) {
+  Mesh mesh = reference::single_triangle({0, 0, 0}, {1, 0, 0}, {0, std::nanf(""), 0});
+  EXPECT_NE(error_of([&] { single_mesh_scene(mesh).validate(); }).find("NaN"), std::string::npos);
+  mesh.positions[2].y = std::numeric_limits<float>::infinity();
+  EXPECT_NE(error_of([&] { single_mesh_scene(mesh).validate(); }).find("infinite"), std::string::npos);
+  mesh.positions = {{-3e38f, 0, 0}, {3e38f, 0, 0}, {0, 1, 0}};
+  EXPECT_NE(error_of([&] { single_mesh_scene(mesh).validate(); }).find("too large"), std::string::npos);
+  Scene scene = single_mesh_scene(reference::single_triangle({0, 0, 0}, {1, 0, 0}, {0, 1, 0}));
+  scene.instances[0].object_to_world[3][0] = std::nanf("");
+  EXPECT_NE(error_of([&] { scene.validate(); }).find("transform"), std::string::npos);
+}
+
+TEST_F(InputErrors, DegenerateSceneAndBadIndices) {
+  Mesh point = reference::single_triangle({1, 1, 1}, {1, 1, 1}, {1, 1, 1});
+  EXPECT_NE(error_of([&] { single_mesh_scene(point).validate(); }).find("zero extent"), std::string::npos);
+  Mesh bad = reference::single_triangle({0, 0, 0}, {1, 0, 0}, {0, 1, 0});
+  bad.indices[2] = 7;
+  EXPECT_NE(error_of([&] { single_mesh_scene(bad).validate(); }).find("index"), std::string::npos);
+}
+
+TEST_F(InputErrors, ResolutionOutOfRange) {
+  Bounds bounds{{0, 0, 0}, {1, 1, 1}};
+  for (int resolution : {-1, 0, 3, 1025, 100000})
+    EXPECT_NE(error_of([&] { fit_grid(bounds, resolution); }).find("out of range"), std::string::npos) << resolution;
+  EXPECT_EQ(fit_grid(bounds, 4).dims, glm::ivec3(4));
+  EXPECT_EQ(fit_grid(bounds, 1024).dims, glm::ivec3(1024));
+}
+
+TEST_F(InputErrors, GridTooBigForDeviceMemory) {
+  // A grid larger than any device heap is refused before allocating.
+  GpuScene scene(context(), single_mesh_scene(reference::single_triangle({0, 0, 0}, {1, 0, 0}, {0, 1, 0})));
+  GridSpec grid;
+  grid.dims = glm::ivec3(1024);
+  grid.voxel_size = 1.0f / 1024.0f;
+  const size_t needed = coarse_sdf_bytes(grid);
+  if (needed <= context().device_local_heap_bytes() * 3 / 4) GTEST_SKIP() << "device is large enough for 1024^3";
+  CoarseSdf coarse(context());
+  EXPECT_NE(error_of([&] { coarse.build(scene, grid, 0.5f); }).find("lower the resolution"), std::string::npos);
+}
+
+TEST_F(InputErrors, MissingAndUnreadableFiles) {
+  EXPECT_NE(error_of([] { import_scene("/nonexistent/mesh.obj"); }).find("cannot open"), std::string::npos);
+  const char* path = "/tmp/rtsdf_test_garbage.ply";
+  FILE* f = std::fopen(path, "w");
+  std::fputs("ply\nthis is not a mesh\n", f);
+  std::fclose(f);
+  EXPECT_NE(error_of([&] { import_scene(path); }).find("cannot read"), std::string::npos);
+}
+
+TEST_F(InputErrors, NoMatchingDeviceName) {
+  vk::ContextOptions options;
+  options.device_name = "no-such-device-xyz";
+  EXPECT_NE(error_of([&] { vk::Context c(options); }).find("matches no Vulkan device"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace rtsdf
