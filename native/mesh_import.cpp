@@ -44,7 +44,7 @@ Scene import_scene(const std::string& path) {
   if (!std::ifstream(path).good()) throw Error("cannot open mesh file '" + path + "'");
   Assimp::Importer importer;
   const aiScene* source = importer.ReadFile(
-      path, aiProcess_Triangulate | aiProcess_JoinIdenticalVertices | aiProcess_SortByPType);
+      path, aiProcess_Triangulate | aiProcess_SortByPType);
   if (!source || !source->mRootNode || (source->mFlags & AI_SCENE_FLAGS_INCOMPLETE))
     throw Error("cannot read mesh file '" + path + "': " + importer.GetErrorString());
   Scene scene;

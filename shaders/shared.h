@@ -26,7 +26,7 @@ const uint kMaxGridResolution = 1024u;
 // Voxelization draws one instance at a time; vertices are pulled from storage buffers.
 struct VoxelizePush {
   mat4 object_to_voxel;  // object space -> voxel space (voxel i spans [i, i+1))
-  ivec4 dims;            // grid dimensions; w = edge of the square framebuffer
+  ivec4 dims;            // grid dimensions; w = edge of each of the three projection squares
   uint first_index;      // first index of this mesh in the shared index buffer
   uint base_vertex;      // added to every index
   uint pad0;

@@ -37,14 +37,14 @@ bool overlaps_voxel(vec3 a, vec3 b, vec3 c, vec3 center) {
 }
 
 void main() {
-  vec2 c = gl_FragCoord.xy;
-  if (any(lessThan(c, v_clip_rect.xy)) || any(greaterThan(c, v_clip_rect.zw))) return;
+  if (any(lessThan(gl_FragCoord.xy, v_clip_rect.xy)) || any(greaterThan(gl_FragCoord.xy, v_clip_rect.zw))) return;
+  uint axis = v_axis;
+  vec2 c = gl_FragCoord.xy - vec2(float(axis * uint(pc.dims.w)), 0.0);  // see voxelize.vert
 
   uint triangle = uint(gl_PrimitiveID);
   vec3 p0 = triangle_corner(triangle, 0u);
   vec3 p1 = triangle_corner(triangle, 1u);
   vec3 p2 = triangle_corner(triangle, 2u);
-  uint axis = v_axis;
   vec3 q0 = to_view(p0, axis), q1 = to_view(p1, axis), q2 = to_view(p2, axis);
 
   // Depth range of the triangle's plane over this pixel's square, within the triangle's own range.

@@ -22,7 +22,7 @@ void main() {
   // half a pixel (and a hair, so that touching survives rounding).
   vec2 lo = min(min(q[0], q[1]), q[2]) - 0.501;
   vec2 hi = max(max(q[0], q[1]), q[2]) + 0.501;
-  v_clip_rect = vec4(lo, hi);
+  v_clip_rect = vec4(lo, hi) + vec4(float(axis * uint(pc.dims.w)), 0.0, float(axis * uint(pc.dims.w)), 0.0);
   v_axis = axis;
 
   float twice_area = (q[1].x - q[0].x) * (q[2].y - q[0].y) - (q[2].x - q[0].x) * (q[1].y - q[0].y);
@@ -46,6 +46,9 @@ void main() {
     vec3 h = cross(edge[(corner + 2u) % 3u], edge[corner]);
     out_pos = h.xy / h.z;
   }
-  vec2 framebuffer = vec2(pc.dims.w);
-  gl_Position = vec4(out_pos / framebuffer * 2.0 - 1.0, 0.5, 1.0);
+  // The three projections sit side by side (x offset axis * edge): llvmpipe
+  // rasterizes 64x64-pixel tiles in parallel, so more tiles means more threads.
+  float edge = float(pc.dims.w);
+  out_pos.x += float(axis) * edge;
+  gl_Position = vec4(out_pos / vec2(3.0 * edge, edge) * 2.0 - 1.0, 0.5, 1.0);
 }

@@ -17,11 +17,12 @@ VoxelizePass::VoxelizePass(const vk::Context& context)
 
 void VoxelizePass::record(VkCommandBuffer cmd, const GpuScene& scene, const GridSpec& grid,
                           const vk::Image3D& seeds) {
-  // Each triangle is drawn along its own dominant axis into one square
-  // framebuffer big enough for any face of the grid.
+  // Each triangle is drawn along its own dominant axis into one of three
+  // squares side by side, each big enough for any face of the grid.
   uint32_t edge = uint32_t(std::max(grid.dims.x, std::max(grid.dims.y, grid.dims.z)));
+  const uint32_t width = 3 * edge;
   if (!framebuffer_ || framebuffer_edge_ != edge) {
-    framebuffer_ = std::make_unique<vk::EmptyFramebuffer>(context_, pipeline_.render_pass(), edge, edge);
+    framebuffer_ = std::make_unique<vk::EmptyFramebuffer>(context_, pipeline_.render_pass(), width, edge);
     framebuffer_edge_ = edge;
   }
 
@@ -38,10 +39,10 @@ void VoxelizePass::record(VkCommandBuffer cmd, const GpuScene& scene, const Grid
   VkRenderPassBeginInfo begin{VK_STRUCTURE_TYPE_RENDER_PASS_BEGIN_INFO};
   begin.renderPass = pipeline_.render_pass();
   begin.framebuffer = framebuffer_->handle();
-  begin.renderArea = {{0, 0}, {edge, edge}};
+  begin.renderArea = {{0, 0}, {width, edge}};
   vkCmdBeginRenderPass(cmd, &begin, VK_SUBPASS_CONTENTS_INLINE);
-  VkViewport viewport{0.0f, 0.0f, float(edge), float(edge), 0.0f, 1.0f};
-  VkRect2D scissor{{0, 0}, {edge, edge}};
+  VkViewport viewport{0.0f, 0.0f, float(width), float(edge), 0.0f, 1.0f};
+  VkRect2D scissor{{0, 0}, {width, edge}};
   vkCmdSetViewport(cmd, 0, 1, &viewport);
   vkCmdSetScissor(cmd, 0, 1, &scissor);
   pipeline_.bind(cmd);
