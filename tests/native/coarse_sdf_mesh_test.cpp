@@ -1,5 +1,7 @@
 // The coarse SDF of a real CAD-like mesh against OpenVDB's exact distance.
 #include <cstdio>
+#include <cstdlib>
+#include <string>
 
 #include "coarse_sdf.h"
 #include "mesh_import.h"
@@ -13,11 +15,18 @@
 namespace rtsdf {
 namespace {
 
+// RTSDF_TEST_MESH=FILE measures another mesh (e.g. a held-out model) the same way.
+std::string test_mesh() {
+  const char* path = std::getenv("RTSDF_TEST_MESH");
+  return path && *path ? path : RTSDF_SAMPLE_MESH;
+}
+
 class CoarseSdfMesh : public testing::VulkanTest, public ::testing::WithParamInterface<int> {};
 
 TEST_P(CoarseSdfMesh, MatchesOpenVdbAndLeavesNoHoles) {
   const int resolution = GetParam();
-  Scene scene = import_scene(RTSDF_SAMPLE_MESH);
+  const std::string mesh = test_mesh();
+  Scene scene = import_scene(mesh);
   GpuScene gpu_scene(context(), scene);
   GridSpec grid = fit_grid(gpu_scene.bounds(), resolution);
   CoarseSdf coarse(context());
@@ -29,7 +38,7 @@ TEST_P(CoarseSdfMesh, MatchesOpenVdbAndLeavesNoHoles) {
       reference::surface_voxels(scene, grid), coarse.read_seeds(), grid, band);
   std::printf("%s at %d (%dx%dx%d): mean |coarse+beta-|exact|| %.3f voxels, max %.3f over %zu band voxels; "
               "%zu of %zu surface voxels without a seed (%.4f%%); voxelize %.1f ms, jump flood %.1f ms\n",
-              RTSDF_SAMPLE_MESH, resolution, grid.dims.x, grid.dims.y, grid.dims.z, errors.mean_abs_voxels,
+              mesh.c_str(), resolution, grid.dims.x, grid.dims.y, grid.dims.z, errors.mean_abs_voxels,
               errors.max_abs_voxels, errors.band_voxels, errors.missing_seeds, errors.surface_voxels,
               100.0 * errors.hole_share(), coarse.timings().voxelize_ms, coarse.timings().jump_flood_ms);
   EXPECT_LE(errors.mean_abs_voxels, 0.6);

@@ -1,0 +1,32 @@
+"""Loads the native module next to this file and turns its failures into
+messages for the UI, so that a missing driver never breaks Blender."""
+
+_module = None
+_error = None
+_device = None
+
+
+def load():
+    """Returns (module, None) or (None, reason)."""
+    global _module, _error
+    if _module is None and _error is None:
+        try:
+            from . import rtsdf_native as module
+            _module = module
+        except ImportError as e:  # built for another Python, or not built
+            _error = f"{e} (run scripts/setup.sh)"
+    return _module, _error
+
+
+def device():
+    """Returns (info dict, None) or (None, reason), asking the driver once."""
+    global _device
+    module, error = load()
+    if module is None:
+        return None, error
+    if _device is None:
+        try:
+            _device = module.device_info()
+        except RuntimeError as e:
+            return None, str(e)
+    return _device, None
