@@ -1,24 +1,136 @@
 #include "gpu_scene.h"
 
+#include <chrono>
+#include <cstring>
+
+#include "error.h"
+#include "shaders/shared.h"
+
 namespace rtsdf {
 
-GpuScene::GpuScene(const vk::Context& context, const Scene& scene) {
-  scene.validate();
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double ms_since(Clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+}
+
+gpu::BvhNode to_gpu(const BvhBuildNode& n, uint32_t node_offset, uint32_t primitive_offset) {
+  gpu::BvhNode node{};
+  node.lo = glm::vec4(n.box.lo, 0.0f);
+  node.hi = glm::vec4(n.box.hi, 0.0f);
+  node.count = n.count;
+  node.first = n.count > 0 ? n.first + primitive_offset : n.first + node_offset;
+  return node;
+}
+
+template <typename T>
+vk::Buffer storage(const vk::Context& context, const std::vector<T>& data) {
+  return vk::upload_buffer(context, data.data(), data.size() * sizeof(T), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
+}
+
+}  // namespace
+
+GpuScene::GpuScene(const vk::Context& context, const Scene& scene) : context_(context), scene_(scene) {
+  scene_.validate();
+  bounds_ = scene_.world_bounds();
+  upload_raster();
+  Clock::time_point start = Clock::now();
+  mesh_bvhs_.resize(scene_.meshes.size());
+  for (uint32_t m = 0; m < scene_.meshes.size(); ++m) build_bottom_level(m);
+  upload_bottom_levels();
+  build_top_level();
+  bvh_build_ms_ = ms_since(start);
+}
+
+void GpuScene::upload_raster() {
   std::vector<glm::vec3> positions;
   std::vector<uint32_t> indices;
-  for (const Mesh& mesh : scene.meshes) {
+  meshes_.clear();
+  for (const Mesh& mesh : scene_.meshes) {
     meshes_.push_back({uint32_t(indices.size()), uint32_t(positions.size()), uint32_t(mesh.triangle_count())});
     positions.insert(positions.end(), mesh.positions.begin(), mesh.positions.end());
     indices.insert(indices.end(), mesh.indices.begin(), mesh.indices.end());
   }
   static_assert(sizeof(glm::vec3) == 3 * sizeof(float), "positions are uploaded as packed floats");
-  positions_ = vk::upload_buffer(context, positions.data(), positions.size() * sizeof(glm::vec3),
-                                 VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
-  indices_ = vk::upload_buffer(context, indices.data(), indices.size() * sizeof(uint32_t),
-                               VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
-  instances_ = scene.instances;
-  bounds_ = scene.world_bounds();
-  triangle_count_ = scene.triangle_count();
+  positions_ = storage(context_, positions);
+  indices_ = storage(context_, indices);
+}
+
+void GpuScene::build_bottom_level(uint32_t mesh) { mesh_bvhs_[mesh] = build_mesh_bvh(scene_.meshes[mesh]); }
+
+void GpuScene::upload_bottom_levels() {
+  std::vector<gpu::BvhNode> nodes;
+  std::vector<glm::vec4> corners;
+  blas_roots_.clear();
+  for (uint32_t m = 0; m < scene_.meshes.size(); ++m) {
+    const Mesh& mesh = scene_.meshes[m];
+    const Bvh& bvh = mesh_bvhs_[m];
+    const uint32_t node_offset = uint32_t(nodes.size()), triangle_offset = uint32_t(corners.size() / 3);
+    blas_roots_.push_back(node_offset);
+    for (const BvhBuildNode& n : bvh.nodes) nodes.push_back(to_gpu(n, node_offset, triangle_offset));
+    for (uint32_t t : bvh.order)
+      for (int k = 0; k < 3; ++k) corners.emplace_back(mesh.positions[mesh.indices[3 * t + k]], 1.0f);
+  }
+  bottom_nodes_ = storage(context_, nodes);
+  triangles_ = storage(context_, corners);
+}
+
+void GpuScene::build_top_level() {
+  std::vector<Aabb> boxes;
+  for (const Instance& instance : scene_.instances) {
+    Aabb box;
+    const BvhBuildNode& root = mesh_bvhs_[instance.mesh].nodes[0];
+    for (int corner = 0; corner < 8; ++corner) {
+      glm::vec3 p(corner & 1 ? root.box.hi.x : root.box.lo.x, corner & 2 ? root.box.hi.y : root.box.lo.y,
+                  corner & 4 ? root.box.hi.z : root.box.lo.z);
+      box.grow(glm::vec3(instance.object_to_world * glm::vec4(p, 1.0f)));
+    }
+    boxes.push_back(box);
+  }
+  Bvh top = build_bvh(boxes, 1);
+  std::vector<gpu::BvhNode> nodes;
+  for (const BvhBuildNode& n : top.nodes) nodes.push_back(to_gpu(n, 0, 0));
+  std::vector<gpu::RayInstance> instances;
+  for (uint32_t i : top.order) {
+    const Instance& instance = scene_.instances[i];
+    gpu::RayInstance ray{};
+    ray.world_to_object = glm::inverse(instance.object_to_world);
+    ray.blas_root = blas_roots_[instance.mesh];
+    ray.mirrored = glm::determinant(glm::mat3(instance.object_to_world)) < 0.0f ? 1u : 0u;
+    instances.push_back(ray);
+  }
+  top_nodes_ = storage(context_, nodes);
+  ray_instances_ = storage(context_, instances);
+}
+
+void GpuScene::set_transforms(const std::vector<glm::mat4>& object_to_world) {
+  if (object_to_world.size() != scene_.instances.size())
+    throw Error("set_transforms: expected " + std::to_string(scene_.instances.size()) + " transforms");
+  Scene moved = scene_;
+  for (size_t i = 0; i < object_to_world.size(); ++i) moved.instances[i].object_to_world = object_to_world[i];
+  moved.validate();
+  scene_ = std::move(moved);
+  bounds_ = scene_.world_bounds();
+  Clock::time_point start = Clock::now();
+  build_top_level();
+  bvh_build_ms_ = ms_since(start);
+}
+
+void GpuScene::set_mesh_positions(uint32_t mesh, const std::vector<glm::vec3>& positions) {
+  if (mesh >= scene_.meshes.size() || positions.size() != scene_.meshes[mesh].positions.size())
+    throw Error("set_mesh_positions: the vertex count must stay the same");
+  Scene deformed = scene_;
+  deformed.meshes[mesh].positions = positions;
+  deformed.validate();
+  scene_ = std::move(deformed);
+  bounds_ = scene_.world_bounds();
+  upload_raster();
+  Clock::time_point start = Clock::now();
+  build_bottom_level(mesh);
+  upload_bottom_levels();
+  build_top_level();
+  bvh_build_ms_ = ms_since(start);
 }
 
 }  // namespace rtsdf

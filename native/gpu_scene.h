@@ -1,8 +1,11 @@
 #pragma once
-// The scene's geometry on the device: every mesh's positions and indices in
-// two shared storage buffers, plus the instances that place them.
+// The scene on the device, in the two forms the passes read:
+// - for rasterization: every mesh's positions and indices in shared buffers;
+// - for ray tracing: one BVH per mesh (bottom level, object space) and a BVH
+//   over the instances (top level, rebuilt whenever a transform changes).
 #include <vector>
 
+#include "bvh.h"
 #include "scene.h"
 #include "vk/resources.h"
 
@@ -19,20 +22,44 @@ class GpuScene {
   // Validates and uploads `scene`; throws rtsdf::Error on bad input.
   GpuScene(const vk::Context& context, const Scene& scene);
 
+  // A rigid motion: only the top level is rebuilt.
+  void set_transforms(const std::vector<glm::mat4>& object_to_world);
+  // A deforming mesh (same triangles, new positions): only its own BVH is rebuilt.
+  void set_mesh_positions(uint32_t mesh, const std::vector<glm::vec3>& positions);
+
   const vk::Buffer& positions() const { return positions_; }
   const vk::Buffer& indices() const { return indices_; }
   const std::vector<GpuMeshRange>& meshes() const { return meshes_; }
-  const std::vector<Instance>& instances() const { return instances_; }
+  const std::vector<Instance>& instances() const { return scene_.instances; }
   const Bounds& bounds() const { return bounds_; }
-  size_t triangle_count() const { return triangle_count_; }
+  size_t triangle_count() const { return scene_.triangle_count(); }
+
+  const vk::Buffer& top_nodes() const { return top_nodes_; }
+  const vk::Buffer& ray_instances() const { return ray_instances_; }
+  const vk::Buffer& bottom_nodes() const { return bottom_nodes_; }
+  const vk::Buffer& triangles() const { return triangles_; }
+  // CPU milliseconds of the last BVH work (bottom levels built + top level).
+  double bvh_build_ms() const { return bvh_build_ms_; }
 
  private:
+  void upload_raster();
+  void build_bottom_level(uint32_t mesh);
+  void upload_bottom_levels();
+  void build_top_level();
+
+  const vk::Context& context_;
+  Scene scene_;
+  Bounds bounds_;
   vk::Buffer positions_;
   vk::Buffer indices_;
   std::vector<GpuMeshRange> meshes_;
-  std::vector<Instance> instances_;
-  Bounds bounds_;
-  size_t triangle_count_ = 0;
+  std::vector<Bvh> mesh_bvhs_;
+  std::vector<uint32_t> blas_roots_;
+  vk::Buffer top_nodes_;
+  vk::Buffer ray_instances_;
+  vk::Buffer bottom_nodes_;
+  vk::Buffer triangles_;
+  double bvh_build_ms_ = 0.0;
 };
 
 }  // namespace rtsdf

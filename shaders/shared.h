@@ -42,7 +42,42 @@ struct SeedDistancePush {
   vec4 scale;  // x = voxel size (world units), y = beta (world units)
 };
 
+// A BVH node (both levels). count > 0: leaf over primitives [first, first + count);
+// count == 0: inner node with children first and first + 1.
+struct BvhNode {
+  vec4 lo;  // xyz = box minimum, w unused
+  vec4 hi;  // xyz = box maximum, w unused
+  uint first;
+  uint count;
+  uint pad0;
+  uint pad1;
+};
+
+// A placed mesh, as the ray tracer sees it.
+struct RayInstance {
+  mat4 world_to_object;
+  uint blas_root;   // index of the mesh's root in the bottom-level node buffer
+  uint mirrored;    // 1 if the transform flips winding (negative determinant)
+  uint pad0;
+  uint pad1;
+};
+
+// One fine-SDF update (classify, then trace the band).
+struct FinePush {
+  vec4 rotation;      // unit quaternion turning this frame's ray set
+  ivec4 fine_dims;    // w = rays per texel
+  vec4 fine_grid;     // xyz = origin, w = voxel size (world)
+  ivec4 coarse_dims;  // w = 1 on the first frame (no history)
+  vec4 coarse_grid;   // xyz = origin, w = voxel size (world)
+  vec4 params;        // x = alpha, y = trace band d (world), z = decay target bias (world), w = ray length (world)
+};
+
+#define RTSDF_TRACE_GROUP 64
+
 #ifdef __cplusplus
+static_assert(sizeof(BvhNode) == 48, "BvhNode layout");
+static_assert(sizeof(RayInstance) == 80, "RayInstance layout");
+static_assert(sizeof(FinePush) == 96, "FinePush layout");
 static_assert(sizeof(VoxelizePush) == 96, "VoxelizePush layout");
 static_assert(sizeof(JumpFloodPush) == 16, "JumpFloodPush layout");
 static_assert(sizeof(SeedDistancePush) == 32, "SeedDistancePush layout");

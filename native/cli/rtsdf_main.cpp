@@ -7,7 +7,10 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
+
 #include "coarse_sdf.h"
+#include "fine_sdf.h"
 #include "mesh_import.h"
 #include "vdb_export.h"
 #include "version.h"
@@ -27,7 +30,16 @@ struct SdfOptions {
   std::string out;
   std::string json;
   std::string device;
+  int fine_resolution = 0;  // 0: coarse only
+  int frames = 32;
+  rtsdf::FineTraceSettings fine;
 };
+
+double median(std::vector<double> values) {
+  if (values.empty()) return 0.0;
+  std::sort(values.begin(), values.end());
+  return values[values.size() / 2];
+}
 
 int run_sdf(const SdfOptions& options) {
   const Clock::time_point start = Clock::now();
@@ -51,12 +63,31 @@ int run_sdf(const SdfOptions& options) {
   coarse.build(gpu_scene, grid, options.beta);
   const double build_ms = ms_since(step);
 
+  // The fine SDF accumulates over frames of a static scene: the coarse SDF
+  // and the BVH are built once, the band is traced every frame.
+  rtsdf::FineSdf fine(context);
+  rtsdf::GridSpec fine_grid;
+  std::vector<double> fine_frame_ms;
+  uint32_t texels_traced = 0;
+  if (options.fine_resolution > 0) {
+    fine_grid = rtsdf::FineSdf::fit(grid, options.fine_resolution);
+    for (int frame = 0; frame < options.frames; ++frame) {
+      fine.update(gpu_scene, coarse, fine_grid, options.fine);
+      fine_frame_ms.push_back(fine.last_frame().total_ms());
+    }
+    texels_traced = fine.read_traced_texels();
+  }
+
   step = Clock::now();
   std::vector<float> distance = coarse.read_distance();
+  std::vector<float> fine_distance;
+  if (options.fine_resolution > 0) fine_distance = fine.read_distance();
   const double readback_ms = ms_since(step);
 
   step = Clock::now();
-  rtsdf::write_vdb(options.out, {{"coarse", grid, &distance}});
+  std::vector<rtsdf::NamedField> fields{{"coarse", grid, &distance}};
+  if (options.fine_resolution > 0) fields.push_back({"fine", fine_grid, &fine_distance});
+  rtsdf::write_vdb(options.out, fields);
   const double write_ms = ms_since(step);
 
   const rtsdf::CoarseSdfTimings& t = coarse.timings();
@@ -84,6 +115,23 @@ int run_sdf(const SdfOptions& options) {
         {"write", write_ms},
         {"process", ms_since(start)}}},
   };
+  if (options.fine_resolution > 0) {
+    report["fine_resolution"] = options.fine_resolution;
+    report["fine_dims"] = {fine_grid.dims.x, fine_grid.dims.y, fine_grid.dims.z};
+    report["fine_voxel_size"] = fine_grid.voxel_size;
+    report["frames"] = options.frames;
+    report["d"] = options.fine.trace_band;
+    report["d_world"] = options.fine.trace_band * grid.voxel_size;
+    report["alpha"] = options.fine.decay;
+    report["rays_per_texel"] = options.fine.rays_per_texel;
+    report["texels_traced"] = texels_traced;
+    report["rays_per_frame"] = uint64_t(texels_traced) * uint64_t(options.fine.rays_per_texel);
+    report["ms"]["fine_trace"] = median(fine_frame_ms);
+    report["ms"]["fine_frames"] = fine_frame_ms;
+    report["ms"]["bvh_build"] = gpu_scene.bvh_build_ms();
+    const double trace_s = median(fine_frame_ms) * 1e-3;
+    report["rays_per_second"] = trace_s > 0 ? double(texels_traced) * options.fine.rays_per_texel / trace_s : 0.0;
+  }
   if (context.validation_message_count() > 0) report["validation_messages"] = context.validation_message_count();
   if (!options.json.empty()) {
     std::ofstream file(options.json);
@@ -130,6 +178,16 @@ int main(int argc, char** argv) {
                       "Also write figures as JSON: device, triangles, voxel_size, dims, beta (world units) and ms "
                       "{voxelize, jump_flood (GPU time), total (SDF build wall time), process (whole run)}");
   sdf_cmd->add_option("--device", sdf.device, "Vulkan device name (substring); overrides RTSDF_DEVICE");
+  sdf_cmd->add_option("--fine-res", sdf.fine_resolution,
+                      "Also compute the fine SDF: voxels on the longest axis over the same bounds (at least the "
+                      "coarse resolution, at most 1024); written as grid 'fine'");
+  sdf_cmd->add_option("--frames", sdf.frames, "Fine-SDF frames to accumulate (static scene)")->capture_default_str();
+  sdf_cmd->add_option("--d", sdf.fine.trace_band,
+                      "Trace band d in coarse voxels: fine texels with coarse distance <= d are ray traced")
+      ->capture_default_str();
+  sdf_cmd->add_option("--alpha", sdf.fine.decay, "Decay alpha: weight of the previous frame's fine SDF, in [0, 1)")
+      ->capture_default_str();
+  sdf_cmd->add_option("--rays", sdf.fine.rays_per_texel, "Rays per traced texel per frame")->capture_default_str();
 
   app.add_subcommand("devices", "List the Vulkan devices the loader sees.");
 
@@ -150,6 +208,7 @@ int main(int argc, char** argv) {
     if (app.got_subcommand("devices")) return run_devices();
     if (!std::isfinite(sdf.beta) || sdf.beta < 0.0f || sdf.beta > 16.0f)
       throw rtsdf::Error("--beta must be between 0 and 16 coarse voxels");
+    if (sdf.frames < 1 || sdf.frames > 100000) throw rtsdf::Error("--frames must be 1 to 100000");
     return run_sdf(sdf);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "rtsdf: error: %s\n", e.what());

@@ -74,7 +74,10 @@ std::vector<uint8_t> surface_voxels(const Scene& scene, const GridSpec& grid, do
   return marked;
 }
 
-std::vector<float> unsigned_distance(const Scene& scene, const GridSpec& grid, float band_voxels) {
+namespace {
+
+template <typename Build>
+std::vector<float> sample_openvdb(const Scene& scene, const GridSpec& grid, Build&& build) {
   openvdb::initialize();
   std::vector<openvdb::Vec3s> points;
   std::vector<openvdb::Vec3I> triangles;
@@ -85,8 +88,7 @@ std::vector<float> unsigned_distance(const Scene& scene, const GridSpec& grid, f
   });
   auto transform = openvdb::math::Transform::createLinearTransform(grid.voxel_size);
   transform->postTranslate(openvdb::Vec3d(grid.origin.x, grid.origin.y, grid.origin.z) + 0.5 * double(grid.voxel_size));
-  openvdb::FloatGrid::Ptr field = openvdb::tools::meshToUnsignedDistanceField<openvdb::FloatGrid>(
-      *transform, points, triangles, std::vector<openvdb::Vec4I>(), band_voxels);
+  openvdb::FloatGrid::Ptr field = build(*transform, points, triangles);
   std::vector<float> values(grid.voxel_count(), std::numeric_limits<float>::infinity());
   auto accessor = field->getConstAccessor();
   for (int z = 0; z < grid.dims.z; ++z)
@@ -96,6 +98,41 @@ std::vector<float> unsigned_distance(const Scene& scene, const GridSpec& grid, f
         if (accessor.probeValue(openvdb::Coord(x, y, z), value)) values[linear(grid, x, y, z)] = value;
       }
   return values;
+}
+
+}  // namespace
+
+std::vector<float> unsigned_distance(const Scene& scene, const GridSpec& grid, float band_voxels) {
+  return sample_openvdb(scene, grid, [&](auto& transform, auto& points, auto& triangles) {
+    return openvdb::tools::meshToUnsignedDistanceField<openvdb::FloatGrid>(transform, points, triangles,
+                                                                          std::vector<openvdb::Vec4I>(), band_voxels);
+  });
+}
+
+std::vector<float> signed_distance(const Scene& scene, const GridSpec& grid, float band_voxels) {
+  return sample_openvdb(scene, grid, [&](auto& transform, auto& points, auto& triangles) {
+    return openvdb::tools::meshToLevelSet<openvdb::FloatGrid>(transform, points, triangles, band_voxels);
+  });
+}
+
+FineErrors compare_fine(const std::vector<float>& fine, const std::vector<float>& exact, const GridSpec& grid,
+                        float band_voxels) {
+  FineErrors errors;
+  double sum = 0;
+  size_t signed_count = 0, wrong = 0;
+  for (size_t i = 0; i < fine.size(); ++i) {
+    float e = exact[i] / grid.voxel_size, f = fine[i] / grid.voxel_size;
+    if (!(std::abs(e) <= band_voxels)) continue;
+    sum += std::abs(f - e);
+    errors.band_voxels++;
+    if (std::abs(e) >= 1.0f) {
+      signed_count++;
+      wrong += (e < 0) != (f < 0);
+    }
+  }
+  errors.mean_abs_voxels = errors.band_voxels ? sum / double(errors.band_voxels) : 0.0;
+  errors.wrong_sign_share = signed_count ? double(wrong) / double(signed_count) : 0.0;
+  return errors;
 }
 
 CoarseErrors compare_coarse(const std::vector<float>& coarse, float beta_world, const std::vector<float>& exact,

@@ -17,6 +17,18 @@ std::vector<uint8_t> surface_voxels(const Scene& scene, const GridSpec& grid, do
 // farther voxels read as +infinity.
 std::vector<float> unsigned_distance(const Scene& scene, const GridSpec& grid, float band_voxels);
 
+// Exact signed distance (OpenVDB meshToLevelSet, negative inside closed
+// surfaces) within `band_voxels`; farther voxels read as +-infinity.
+std::vector<float> signed_distance(const Scene& scene, const GridSpec& grid, float band_voxels);
+
+struct FineErrors {
+  double mean_abs_voxels = 0;   // mean |fine - exact| where |exact| <= band
+  size_t band_voxels = 0;
+  double wrong_sign_share = 0;  // among voxels with 1 <= |exact| <= band
+};
+FineErrors compare_fine(const std::vector<float>& fine, const std::vector<float>& exact, const GridSpec& grid,
+                        float band_voxels);
+
 struct CoarseErrors {
   double mean_abs_voxels = 0;  // mean |coarse + beta - |exact|| over the band
   double max_abs_voxels = 0;

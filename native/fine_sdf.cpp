@@ -1,0 +1,95 @@
+#include "fine_sdf.h"
+
+#include <cmath>
+#include <cstring>
+
+#include "shaders/shared.h"
+#include "vk/context.h"
+
+namespace rtsdf {
+
+GridSpec FineSdf::fit(const GridSpec& coarse, int fine_resolution) {
+  const int coarse_longest = std::max(coarse.dims.x, std::max(coarse.dims.y, coarse.dims.z));
+  if (fine_resolution < coarse_longest || fine_resolution > int(gpu::kMaxGridResolution))
+    throw Error("fine resolution " + std::to_string(fine_resolution) + " is out of range: use " +
+                std::to_string(coarse_longest) + " (the coarse resolution) to " +
+                std::to_string(gpu::kMaxGridResolution));
+  GridSpec fine;
+  fine.origin = coarse.origin;
+  fine.voxel_size = coarse.voxel_size * float(coarse_longest) / float(fine_resolution);
+  const glm::vec3 extent = glm::vec3(coarse.dims) * coarse.voxel_size;
+  for (int a = 0; a < 3; ++a)
+    fine.dims[a] = std::min(fine_resolution, int(std::ceil(extent[a] / fine.voxel_size - 1e-3f)));
+  return fine;
+}
+
+FineSdf::FineSdf(const vk::Context& context) : context_(context), pass_(context), timer_(context, 8) {}
+
+void FineSdf::allocate(const GridSpec& grid) {
+  if (distance_.dims() == grid.dims && grid.origin == grid_.origin && grid.voxel_size == grid_.voxel_size) return;
+  const size_t needed = grid.voxel_count() * (4 + 8 + 4);
+  if (needed > context_.device_local_heap_bytes() * 3 / 4)
+    throw Error("the fine grid needs " + std::to_string(needed >> 20) + " MiB: lower the fine resolution");
+  const VkImageUsageFlags usage =
+      VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT | VK_IMAGE_USAGE_SAMPLED_BIT;
+  distance_ = vk::Image3D(context_, grid.dims, VK_FORMAT_R32_SFLOAT, usage);
+  hit_counts_ = vk::Image3D(context_, grid.dims, VK_FORMAT_R32G32_SFLOAT, usage);
+  trace_list_ = vk::Buffer(context_, (grid.voxel_count() + 1) * sizeof(uint32_t),
+                           VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT |
+                               VK_BUFFER_USAGE_TRANSFER_SRC_BIT,
+                           vk::Buffer::Access::DeviceOnly);
+  dispatch_ = vk::Buffer(context_, 4 * sizeof(uint32_t),
+                         VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT,
+                         vk::Buffer::Access::DeviceOnly);
+  context_.submit_and_wait([&](VkCommandBuffer cmd) {
+    for (const vk::Image3D* image : {&distance_, &hit_counts_})
+      vk::image_barrier(cmd, image->handle(), VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL, 0,
+                        VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT,
+                        VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT);
+  });
+  grid_ = grid;
+  frame_ = 0;
+}
+
+void FineSdf::update(const GpuScene& scene, const CoarseSdf& coarse, const GridSpec& fine_grid,
+                     const FineTraceSettings& settings) {
+  if (settings.rays_per_texel < 1 || settings.rays_per_texel > 1024) throw Error("rays per texel must be 1 to 1024");
+  if (!(settings.decay >= 0.0f && settings.decay < 1.0f)) throw Error("decay (alpha) must be in [0, 1)");
+  if (!(settings.trace_band >= 0.0f && settings.trace_band <= 64.0f)) throw Error("trace band d must be 0 to 64 coarse voxels");
+  allocate(fine_grid);
+  context_.submit_and_wait([&](VkCommandBuffer cmd) {
+    timer_.begin(cmd);
+    pass_.record(cmd, scene, coarse.grid(), coarse.distance(), grid_, distance_, hit_counts_, trace_list_, dispatch_,
+                 settings, coarse.beta_world(), frame_, frame_ == 0, &timer_);
+  });
+  stats_ = {};
+  for (const vk::GpuTimer::Span& span : timer_.read()) {
+    if (span.label == "fine classify") stats_.classify_ms = span.ms;
+    if (span.label == "fine trace") stats_.trace_ms = span.ms;
+  }
+  frame_++;
+}
+
+std::vector<float> FineSdf::read_distance() const {
+  vk::Buffer readback = vk::download_image(context_, distance_, sizeof(float));
+  std::vector<float> values(distance_.texel_count());
+  std::memcpy(values.data(), readback.mapped(), values.size() * sizeof(float));
+  return values;
+}
+
+uint32_t FineSdf::read_traced_texels() const {
+  vk::Buffer readback(context_, sizeof(uint32_t), VK_BUFFER_USAGE_TRANSFER_DST_BIT, vk::Buffer::Access::HostVisible);
+  context_.submit_and_wait([&](VkCommandBuffer cmd) {
+    vk::memory_barrier(cmd, VK_ACCESS_SHADER_WRITE_BIT, VK_ACCESS_TRANSFER_READ_BIT,
+                       VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT);
+    VkBufferCopy region{0, 0, sizeof(uint32_t)};
+    vkCmdCopyBuffer(cmd, trace_list_.handle(), readback.handle(), 1, &region);
+    vk::memory_barrier(cmd, VK_ACCESS_TRANSFER_WRITE_BIT, VK_ACCESS_HOST_READ_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT,
+                       VK_PIPELINE_STAGE_HOST_BIT);
+  });
+  uint32_t count = 0;
+  std::memcpy(&count, readback.mapped(), sizeof count);
+  return count;
+}
+
+}  // namespace rtsdf

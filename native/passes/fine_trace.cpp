@@ -1,0 +1,94 @@
+#include "passes/fine_trace.h"
+
+#include <cmath>
+#include <random>
+
+#include "shaders/shared.h"
+#include "spirv/spirv_fine_classify_comp.h"
+#include "spirv/spirv_fine_dispatch_comp.h"
+#include "spirv/spirv_fine_trace_comp.h"
+#include "vk/context.h"
+#include "vk/timer.h"
+
+namespace rtsdf {
+
+namespace {
+
+constexpr VkDescriptorType kImage = VK_DESCRIPTOR_TYPE_STORAGE_IMAGE;
+constexpr VkDescriptorType kBuffer = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+
+// A uniformly random rotation per frame (Shoemake's quaternion), so every
+// frame casts a new stratified set of directions.
+glm::vec4 frame_rotation(uint32_t frame) {
+  std::mt19937 rng(0x9e3779b9u ^ (frame * 2654435761u));
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  float u1 = u(rng), u2 = 2.0f * float(M_PI) * u(rng), u3 = 2.0f * float(M_PI) * u(rng);
+  float a = std::sqrt(1.0f - u1), b = std::sqrt(u1);
+  return {a * std::sin(u2), a * std::cos(u2), b * std::sin(u3), b * std::cos(u3)};
+}
+
+void compute_barrier(VkCommandBuffer cmd, VkPipelineStageFlags dst_stage = VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                     VkAccessFlags dst_access = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT) {
+  vk::memory_barrier(cmd, VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT, dst_access,
+                     VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT, dst_stage);
+}
+
+}  // namespace
+
+FineTracePass::FineTracePass(const vk::Context& context)
+    : classify_(context, RTSDF_SPIRV(spirv_fine_classify_comp), {kImage, kImage, kImage, kBuffer},
+                sizeof(gpu::FinePush)),
+      prepare_dispatch_(context, RTSDF_SPIRV(spirv_fine_dispatch_comp), {kBuffer, kBuffer}, 0),
+      trace_(context, RTSDF_SPIRV(spirv_fine_trace_comp),
+             {kBuffer, kBuffer, kBuffer, kBuffer, kImage, kImage, kImage, kBuffer}, sizeof(gpu::FinePush)) {}
+
+void FineTracePass::record(VkCommandBuffer cmd, const GpuScene& scene, const GridSpec& coarse_grid,
+                           const vk::Image3D& coarse, const GridSpec& fine_grid, const vk::Image3D& fine,
+                           const vk::Image3D& hit_counts, const vk::Buffer& trace_list, const vk::Buffer& dispatch,
+                           const FineTraceSettings& settings, float beta_world, uint32_t frame, bool first_frame,
+                           vk::GpuTimer* timer) const {
+  const float coarse_voxel = coarse_grid.voxel_size;
+  const float bias = settings.decay_target_bias >= 0.0f ? settings.decay_target_bias * coarse_voxel
+                                                        : beta_world + 0.5f * std::sqrt(3.0f) * coarse_voxel;
+  const glm::vec3 extent = glm::vec3(fine_grid.dims) * fine_grid.voxel_size;
+  gpu::FinePush push{};
+  push.rotation = frame_rotation(frame);
+  push.fine_dims = glm::ivec4(fine_grid.dims, settings.rays_per_texel);
+  push.fine_grid = glm::vec4(fine_grid.origin, fine_grid.voxel_size);
+  push.coarse_dims = glm::ivec4(coarse_grid.dims, first_frame ? 1 : 0);
+  push.coarse_grid = glm::vec4(coarse_grid.origin, coarse_voxel);
+  // Rays need only reach past the band: a hit farther than band + the upper
+  // bound cannot lower any value the texel can hold.
+  push.params = glm::vec4(settings.decay, settings.trace_band * coarse_voxel, bias,
+                          std::min(glm::length(extent), (settings.trace_band + 2.0f) * coarse_voxel + bias));
+
+  vkCmdFillBuffer(cmd, trace_list.handle(), 0, sizeof(uint32_t), 0u);
+  compute_barrier(cmd);
+  classify_.bind(cmd);
+  classify_.push_descriptors(cmd, {vk::Resource::storage_image(coarse), vk::Resource::storage_image(fine),
+                                   vk::Resource::storage_image(hit_counts), vk::Resource::storage_buffer(trace_list)});
+  classify_.push_constants(cmd, push);
+  vkCmdDispatch(cmd, vk::group_count(fine_grid.dims.x, RTSDF_GROUP_EDGE),
+                vk::group_count(fine_grid.dims.y, RTSDF_GROUP_EDGE), vk::group_count(fine_grid.dims.z, RTSDF_GROUP_EDGE));
+  if (timer) timer->mark(cmd, "fine classify");
+
+  compute_barrier(cmd);
+  prepare_dispatch_.bind(cmd);
+  prepare_dispatch_.push_descriptors(cmd, {vk::Resource::storage_buffer(trace_list), vk::Resource::storage_buffer(dispatch)});
+  vkCmdDispatch(cmd, 1, 1, 1);
+  compute_barrier(cmd, VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT | VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                  VK_ACCESS_INDIRECT_COMMAND_READ_BIT | VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
+
+  trace_.bind(cmd);
+  trace_.push_descriptors(cmd, {vk::Resource::storage_buffer(scene.top_nodes()),
+                                vk::Resource::storage_buffer(scene.ray_instances()),
+                                vk::Resource::storage_buffer(scene.bottom_nodes()),
+                                vk::Resource::storage_buffer(scene.triangles()), vk::Resource::storage_image(coarse),
+                                vk::Resource::storage_image(fine), vk::Resource::storage_image(hit_counts),
+                                vk::Resource::storage_buffer(trace_list)});
+  trace_.push_constants(cmd, push);
+  vkCmdDispatchIndirect(cmd, dispatch.handle(), 0);
+  if (timer) timer->mark(cmd, "fine trace");
+}
+
+}  // namespace rtsdf

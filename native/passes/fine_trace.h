@@ -1,0 +1,38 @@
+#pragma once
+// Pass 2: the fine SDF. Classify fine texels against the coarse SDF, list the
+// band (c <= d), and trace rays only from listed texels (indirect dispatch).
+#include "grid.h"
+#include "gpu_scene.h"
+#include "vk/pipeline.h"
+#include "vk/timer.h"
+#include "vk/resources.h"
+
+namespace rtsdf {
+
+struct FineTraceSettings {
+  float trace_band = 2.0f;      // d, in coarse voxels
+  float decay = 0.9f;           // alpha
+  int rays_per_texel = 8;
+  // Added to c_t where the texel decays towards it. 0 gives the paper's update;
+  // the default (beta + half a coarse voxel diagonal) is an upper bound of the
+  // true distance, so the min with traced hits converges from above.
+  float decay_target_bias = -1.0f;  // < 0: the default
+};
+
+class FineTracePass {
+ public:
+  explicit FineTracePass(const vk::Context& context);
+  // `trace_list` holds a count and one packed texel per fine voxel; `dispatch`
+  // holds the indirect arguments. `frame` picks the ray set.
+  void record(VkCommandBuffer cmd, const GpuScene& scene, const GridSpec& coarse_grid, const vk::Image3D& coarse,
+              const GridSpec& fine_grid, const vk::Image3D& fine, const vk::Image3D& hit_counts,
+              const vk::Buffer& trace_list, const vk::Buffer& dispatch, const FineTraceSettings& settings,
+              float beta_world, uint32_t frame, bool first_frame, vk::GpuTimer* timer) const;
+
+ private:
+  vk::Pipeline classify_;
+  vk::Pipeline prepare_dispatch_;
+  vk::Pipeline trace_;
+};
+
+}  // namespace rtsdf

@@ -1,0 +1,29 @@
+#version 450
+#extension GL_GOOGLE_include_directive : require
+// Fine SDF, step 1: every fine texel reads the coarse SDF at its centre.
+// Texels within the band (c <= d) are appended to the trace list; the others
+// take the coarse value, as the paper does.
+#include "shared.h"
+
+layout(local_size_x = RTSDF_GROUP_EDGE, local_size_y = RTSDF_GROUP_EDGE, local_size_z = RTSDF_GROUP_EDGE) in;
+layout(binding = 0, r32f) uniform readonly image3D coarse;
+layout(binding = 1, r32f) uniform writeonly image3D fine;
+layout(binding = 2, rg32f) uniform writeonly image3D hit_counts;
+layout(std430, binding = 3) buffer TraceList { uint trace_count; uint trace_texels[]; };
+layout(push_constant) uniform Push { FinePush pc; };
+
+#include "coarse_sample.glsl.h"
+
+void main() {
+  ivec3 p = ivec3(gl_GlobalInvocationID);
+  if (any(greaterThanEqual(p, pc.fine_dims.xyz))) return;
+  vec3 world = pc.fine_grid.xyz + (vec3(p) + 0.5) * pc.fine_grid.w;
+  float c = sample_coarse(world);
+  if (c <= pc.params.y) {
+    uint slot = atomicAdd(trace_count, 1u);
+    trace_texels[slot] = uint(p.x) | (uint(p.y) << kSeedBits) | (uint(p.z) << (2u * kSeedBits));
+  } else {
+    imageStore(fine, p, vec4(c));
+    imageStore(hit_counts, p, vec4(0.0));
+  }
+}

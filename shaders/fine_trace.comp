@@ -1,0 +1,55 @@
+#version 450
+#extension GL_GOOGLE_include_directive : require
+// Fine SDF, step 3: each listed texel casts rays_per_texel rays (a spherical
+// Fibonacci set turned by a new rotation every frame) and updates
+//   f_t = min(alpha * f_{t-1} + (1 - alpha) * (c_t + bias), r_t)
+// with r_t the closest hit. Front/back hit counts decay with alpha too; the
+// texel is inside (negative) when back faces outnumber front faces.
+#include "shared.h"
+
+layout(local_size_x = RTSDF_TRACE_GROUP) in;
+#include "ray_trace.glsl.h"
+layout(binding = 4, r32f) uniform readonly image3D coarse;
+layout(binding = 5, r32f) uniform image3D fine;
+layout(binding = 6, rg32f) uniform image3D hit_counts;
+layout(std430, binding = 7) readonly buffer TraceList { uint trace_count; uint trace_texels[]; };
+layout(push_constant) uniform Push { FinePush pc; };
+
+#include "coarse_sample.glsl.h"
+
+vec3 rotate(vec4 q, vec3 v) { return v + 2.0 * cross(q.xyz, cross(q.xyz, v) + q.w * v); }
+
+void main() {
+  uint item = gl_GlobalInvocationID.x;
+  if (item >= trace_count) return;
+  uint packed = trace_texels[item];
+  ivec3 p = ivec3(packed & kSeedMask, (packed >> kSeedBits) & kSeedMask, packed >> (2u * kSeedBits));
+  vec3 world = pc.fine_grid.xyz + (vec3(p) + 0.5) * pc.fine_grid.w;
+  float c = sample_coarse(world);
+
+  const int rays = pc.fine_dims.w;
+  const float golden_angle = 2.39996323;
+  float nearest = pc.params.w;
+  vec2 hits = vec2(0.0);  // front, back
+  for (int i = 0; i < rays; ++i) {
+    float z = 1.0 - (2.0 * float(i) + 1.0) / float(rays);
+    float r = sqrt(max(0.0, 1.0 - z * z));
+    float phi = golden_angle * float(i);
+    vec3 dir = rotate(pc.rotation, vec3(r * cos(phi), r * sin(phi), z));
+    bool front;
+    float t = trace_scene(world, dir, pc.params.w, front);
+    if (t < pc.params.w) {
+      nearest = min(nearest, t);
+      hits += front ? vec2(1.0, 0.0) : vec2(0.0, 1.0);
+    }
+  }
+
+  bool first_frame = pc.coarse_dims.w != 0;
+  float alpha = pc.params.x;
+  float target = max(c + pc.params.z, 0.0);  // params.z = 0: the paper's c_t
+  float previous = first_frame ? target : abs(imageLoad(fine, p).x);
+  vec2 counts = (first_frame ? vec2(0.0) : alpha * imageLoad(hit_counts, p).xy) + hits;
+  float f = min(alpha * previous + (1.0 - alpha) * target, nearest);
+  imageStore(hit_counts, p, vec4(counts, 0.0, 0.0));
+  imageStore(fine, p, vec4(counts.y > counts.x ? -f : f));
+}

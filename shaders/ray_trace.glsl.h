@@ -1,0 +1,75 @@
+// Closest-hit ray tracing through the two-level BVH (bindings 0-3), with
+// whether the hit triangle faces the ray (front) or turns its back to it.
+layout(std430, binding = 0) readonly buffer TopNodes { BvhNode top_nodes[]; };
+layout(std430, binding = 1) readonly buffer Instances { RayInstance instances[]; };
+layout(std430, binding = 2) readonly buffer BottomNodes { BvhNode bottom_nodes[]; };
+layout(std430, binding = 3) readonly buffer Triangles { vec4 triangle_corners[]; };  // 3 per triangle
+
+#define RTSDF_STACK 48
+
+// Entry distance of the ray into the box, or a value beyond t_max if it misses.
+float box_entry(vec3 origin, vec3 inv_dir, vec4 lo, vec4 hi, float t_max) {
+  vec3 t0 = (lo.xyz - origin) * inv_dir, t1 = (hi.xyz - origin) * inv_dir;
+  vec3 near = min(t0, t1), far = max(t0, t1);
+  float enter = max(max(near.x, near.y), max(near.z, 0.0));
+  float leave = min(min(far.x, far.y), min(far.z, t_max));
+  return enter <= leave ? enter : 3.0e38;
+}
+
+void trace_mesh(uint root, vec3 origin, vec3 dir, bool mirrored, inout float best_t, inout bool front) {
+  vec3 inv_dir = 1.0 / dir;
+  uint stack[RTSDF_STACK];
+  int top = 0;
+  stack[top++] = root;
+  while (top > 0) {
+    BvhNode node = bottom_nodes[stack[--top]];
+    if (box_entry(origin, inv_dir, node.lo, node.hi, best_t) >= best_t) continue;
+    if (node.count == 0u) {
+      if (top + 2 <= RTSDF_STACK) { stack[top++] = node.first; stack[top++] = node.first + 1u; }
+      continue;
+    }
+    for (uint i = node.first; i < node.first + node.count; ++i) {
+      // Moeller-Trumbore; det > 0 when the ray meets the counter-clockwise (front) side.
+      vec3 a = triangle_corners[3u * i].xyz;
+      vec3 e1 = triangle_corners[3u * i + 1u].xyz - a, e2 = triangle_corners[3u * i + 2u].xyz - a;
+      vec3 p = cross(dir, e2);
+      float det = dot(e1, p);
+      if (abs(det) < 1e-20) continue;
+      float inv_det = 1.0 / det;
+      vec3 s = origin - a;
+      float u = dot(s, p) * inv_det;
+      if (u < 0.0 || u > 1.0) continue;
+      vec3 q = cross(s, e1);
+      float v = dot(dir, q) * inv_det;
+      if (v < 0.0 || u + v > 1.0) continue;
+      float t = dot(e2, q) * inv_det;
+      if (t > 0.0 && t < best_t) { best_t = t; front = (det > 0.0) != mirrored; }
+    }
+  }
+}
+
+// Returns the closest hit distance below t_max (or t_max) and its facing.
+float trace_scene(vec3 origin, vec3 dir, float t_max, out bool front) {
+  front = true;
+  float best_t = t_max;
+  vec3 inv_dir = 1.0 / dir;
+  uint stack[RTSDF_STACK];
+  int top = 0;
+  stack[top++] = 0u;
+  while (top > 0) {
+    BvhNode node = top_nodes[stack[--top]];
+    if (box_entry(origin, inv_dir, node.lo, node.hi, best_t) >= best_t) continue;
+    if (node.count == 0u) {
+      if (top + 2 <= RTSDF_STACK) { stack[top++] = node.first; stack[top++] = node.first + 1u; }
+      continue;
+    }
+    for (uint i = node.first; i < node.first + node.count; ++i) {
+      RayInstance inst = instances[i];
+      // Unnormalized object-space direction keeps t in world units.
+      vec3 o = (inst.world_to_object * vec4(origin, 1.0)).xyz;
+      vec3 d = mat3(inst.world_to_object) * dir;
+      trace_mesh(inst.blas_root, o, d, inst.mirrored != 0u, best_t, front);
+    }
+  }
+  return best_t;
+}
