@@ -70,10 +70,36 @@ class SdfCommand(unittest.TestCase):
         for axis in range(3):
             self.assertAlmostEqual(world[axis], report["origin"][axis] + 0.5 * report["voxel_size"], places=5)
 
+    def test_fine_sdf_flags_grids_and_figures(self):
+        out, js = self.path("f.vdb"), self.path("f.json")
+        result = run("sdf", SAMPLE, "--coarse-res", "32", "--fine-res", "64", "--frames", "3", "--d", "1.5",
+                     "--alpha", "0.8", "--rays", "4", "--out", out, "--json", js)
+        self.assertEqual(result.returncode, 0, result.stderr)
+        with open(js) as f:
+            report = json.load(f)
+        for key in ("fine_trace", "bvh_build"):
+            self.assertGreater(report["ms"][key], 0.0)
+        self.assertEqual(len(report["ms"]["fine_frames"]), 3)
+        self.assertGreater(report["texels_traced"], 0)
+        self.assertEqual(report["rays_per_frame"], 4 * report["texels_traced"])
+        self.assertEqual(max(report["fine_dims"]), 64)
+        # Only the band is traced: far fewer texels than the fine grid holds.
+        fine_voxels = report["fine_dims"][0] * report["fine_dims"][1] * report["fine_dims"][2]
+        self.assertLess(report["texels_traced"], fine_voxels)
+        names = [g.name for g in vdb.readAllGridMetadata(out)]
+        self.assertEqual(sorted(names), ["coarse", "fine"])
+        fine = vdb.read(out, "fine")
+        self.assertEqual(fine.gridClass, vdb.GridClass.LEVEL_SET)
+        self.assertAlmostEqual(fine.transform.voxelSize()[0], report["fine_voxel_size"], places=6)
+        for bad in (["--alpha", "1.0"], ["--rays", "0"], ["--fine-res", "16"], ["--frames", "0"]):
+            self.assert_one_line_error(run("sdf", SAMPLE, "--coarse-res", "32", "--fine-res", "64", *bad,
+                                           "--out", self.path("x.vdb")), "")
+
     def test_help_documents_every_flag(self):
         result = run("sdf", "--help")
         self.assertEqual(result.returncode, 0)
-        for flag in ("--coarse-res", "--beta", "--out", "--json", "MESH"):
+        for flag in ("--coarse-res", "--beta", "--out", "--json", "MESH", "--fine-res", "--frames", "--d", "--alpha",
+                     "--rays"):
             self.assertIn(flag, result.stdout)
 
     def test_missing_file(self):

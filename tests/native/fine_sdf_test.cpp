@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <glm/gtc/matrix_transform.hpp>
 
 #include "coarse_sdf.h"
 #include "fine_sdf.h"
@@ -68,6 +69,69 @@ TEST_F(FineSdfTest, InsideOfClosedMeshIsNegative) {
       }
   ASSERT_GT(inside, 100u);
   EXPECT_EQ(negative, inside);
+}
+
+}  // namespace
+}  // namespace rtsdf
+
+namespace rtsdf {
+namespace {
+
+// A sphere moves by less than the trace band, so its old surface stays in the
+// band. There the texel forgets the old surface only through the decay:
+// the gap to the new (larger) distance shrinks as alpha^t, from at most
+// g0 = (d + beta + sqrt(3)/2) coarse voxels (the decay target's upper bound).
+// It must be below one fine voxel within t = ceil(ln(1 / g0) / ln(alpha)) frames.
+TEST_F(FineSdfTest, MovedSphereOldPlaceRecoversWithinDecayBound) {
+  const float radius = 0.35f;
+  Mesh mesh = reference::uv_sphere({0, 0, 0}, radius, 48);
+  // Two tiny markers pin the scene bounds, so the grid stays put while the sphere moves.
+  Mesh markers = reference::box({-1, -1, -1}, {-0.98f, -0.98f, -0.98f});
+  reference::append(markers, reference::box({0.98f, 0.98f, 0.98f}, {1, 1, 1}));
+  Scene scene;
+  scene.meshes = {mesh, markers};
+  const glm::vec3 before(-0.2f, 0, 0), after(-0.1f, 0, 0);
+  scene.instances = {{0, glm::translate(glm::mat4(1.0f), before)}, {1, glm::mat4(1.0f)}};
+  GpuScene gpu_scene(context(), scene);
+
+  FineTraceSettings settings;  // alpha 0.9, d 2 coarse voxels
+  CoarseSdf coarse(context());
+  FineSdf fine(context());
+  const GridSpec coarse_grid = fit_grid(gpu_scene.bounds(), 32);
+  const GridSpec grid = FineSdf::fit(coarse_grid, 64);
+  const float ratio = coarse_grid.voxel_size / grid.voxel_size;
+  ASSERT_LT(glm::length(after - before), settings.trace_band * coarse_grid.voxel_size);
+  for (int f = 0; f < 12; ++f) {
+    coarse.build(gpu_scene, coarse_grid, 0.5f);
+    fine.update(gpu_scene, coarse, grid, settings);
+  }
+
+  gpu_scene.set_transforms({glm::translate(glm::mat4(1.0f), after), glm::mat4(1.0f)});
+  const double g0 = (settings.trace_band + 0.5 + 0.5 * std::sqrt(3.0)) * ratio;  // fine voxels
+  const int bound = int(std::ceil(std::log(1.0 / g0) / std::log(double(settings.decay))));
+  int recovered_at = -1;
+  for (int frame = 1; frame <= bound + 4 && recovered_at < 0; ++frame) {
+    coarse.build(gpu_scene, coarse_grid, 0.5f);
+    fine.update(gpu_scene, coarse, grid, settings);
+    std::vector<float> values = fine.read_distance();
+    double worst = 0;
+    for (int z = 0; z < grid.dims.z; ++z)
+      for (int y = 0; y < grid.dims.y; ++y)
+        for (int x = 0; x < grid.dims.x; ++x) {
+          glm::vec3 p = grid.voxel_center({x, y, z});
+          float old_distance = glm::length(p - before) - radius;
+          float now = glm::length(p - after) - radius;
+          // Texels on the old surface that are now well outside the sphere.
+          if (std::abs(old_distance) > 0.5f * grid.voxel_size || now < 2.0f * grid.voxel_size) continue;
+          float value = values[size_t(x) + size_t(grid.dims.x) * (y + size_t(grid.dims.y) * z)];
+          worst = std::max(worst, double(now - value) / grid.voxel_size);  // how far below the truth
+        }
+    std::printf("moved sphere, frame %d: worst stale underestimate %.2f fine voxels (bound %d frames)\n", frame,
+                worst, bound);
+    if (worst <= 1.0) recovered_at = frame;
+  }
+  EXPECT_GT(recovered_at, 0) << "the old place did not recover";
+  EXPECT_LE(recovered_at, bound);
 }
 
 }  // namespace
