@@ -4,6 +4,7 @@
 // Texels within the band (c <= d) are appended to the trace list; the others
 // take the coarse value, as the paper does.
 #include "shared.h"
+#include "seed_common.glsl.h"  // texel indices are packed like seeds
 
 layout(local_size_x = RTSDF_GROUP_EDGE, local_size_y = RTSDF_GROUP_EDGE, local_size_z = RTSDF_GROUP_EDGE) in;
 layout(binding = 0, r32f) uniform readonly image3D coarse;
@@ -21,7 +22,7 @@ void main() {
   float c = sample_coarse(world);
   if (c <= pc.params.y) {
     uint slot = atomicAdd(trace_count, 1u);
-    trace_texels[slot] = uint(p.x) | (uint(p.y) << kSeedBits) | (uint(p.z) << (2u * kSeedBits));
+    trace_texels[slot] = pack_seed(p);
   } else {
     imageStore(fine, p, vec4(c));
     imageStore(hit_counts, p, vec4(0.0));

@@ -6,6 +6,7 @@
 // with r_t the closest hit. Front/back hit counts decay with alpha too; the
 // texel is inside (negative) when back faces outnumber front faces.
 #include "shared.h"
+#include "seed_common.glsl.h"  // texel indices are packed like seeds
 
 layout(local_size_x = RTSDF_TRACE_GROUP) in;
 #include "ray_trace.glsl.h"
@@ -22,8 +23,7 @@ vec3 rotate(vec4 q, vec3 v) { return v + 2.0 * cross(q.xyz, cross(q.xyz, v) + q.
 void main() {
   uint item = gl_GlobalInvocationID.x;
   if (item >= trace_count) return;
-  uint packed = trace_texels[item];
-  ivec3 p = ivec3(packed & kSeedMask, (packed >> kSeedBits) & kSeedMask, packed >> (2u * kSeedBits));
+  ivec3 p = unpack_seed(trace_texels[item]);
   vec3 world = pc.fine_grid.xyz + (vec3(p) + 0.5) * pc.fine_grid.w;
   float c = sample_coarse(world);
 
