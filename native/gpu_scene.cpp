@@ -1,6 +1,7 @@
 #include "gpu_scene.h"
 
 #include <chrono>
+#include <cmath>
 #include <cstring>
 
 #include "error.h"
@@ -107,10 +108,12 @@ void GpuScene::build_top_level() {
 void GpuScene::set_transforms(const std::vector<glm::mat4>& object_to_world) {
   if (object_to_world.size() != scene_.instances.size())
     throw Error("set_transforms: expected " + std::to_string(scene_.instances.size()) + " transforms");
-  Scene moved = scene_;
-  for (size_t i = 0; i < object_to_world.size(); ++i) moved.instances[i].object_to_world = object_to_world[i];
-  moved.validate();
-  scene_ = std::move(moved);
+  // Check only what changed: the matrices, before any is applied.
+  for (const glm::mat4& m : object_to_world)
+    for (int c = 0; c < 4; ++c)
+      for (int r = 0; r < 4; ++r)
+        if (!std::isfinite(m[c][r])) throw Error("set_transforms: a transform has NaN or infinite entries");
+  for (size_t i = 0; i < object_to_world.size(); ++i) scene_.instances[i].object_to_world = object_to_world[i];
   bounds_ = scene_.world_bounds();
   Clock::time_point start = Clock::now();
   build_top_level();

@@ -78,6 +78,17 @@ TEST_F(InputErrors, MissingAndUnreadableFiles) {
   EXPECT_NE(error_of([&] { import_scene(path); }).find("cannot read"), std::string::npos);
 }
 
+TEST_F(InputErrors, DynamicUpdatesRejectBadTransformsAndVertexCounts) {
+  GpuScene scene(context(), single_mesh_scene(reference::single_triangle({0, 0, 0}, {1, 0, 0}, {0, 1, 0})));
+  glm::mat4 bad(1.0f);
+  bad[3][1] = std::nanf("");
+  EXPECT_NE(error_of([&] { scene.set_transforms({bad}); }).find("NaN"), std::string::npos);
+  EXPECT_NE(error_of([&] { scene.set_transforms({}); }).find("expected 1"), std::string::npos);
+  EXPECT_NE(error_of([&] { scene.set_mesh_positions(0, {{0, 0, 0}}); }).find("vertex count"), std::string::npos);
+  // The scene is unchanged by the refused updates.
+  EXPECT_EQ(scene.instances()[0].object_to_world, glm::mat4(1.0f));
+}
+
 TEST_F(InputErrors, NoMatchingDeviceName) {
   vk::ContextOptions options;
   options.device_name = "no-such-device-xyz";
