@@ -15,6 +15,7 @@
 
 #include "coarse_sdf.h"
 #include "mesh_import.h"
+#include "vdb_export.h"
 #include "vk/context.h"
 
 namespace {
@@ -46,8 +47,7 @@ double openvdb_build_ms(const rtsdf::Scene& scene, const rtsdf::GridSpec& grid) 
     for (size_t t = 0; t < mesh.triangle_count(); ++t)
       triangles.emplace_back(base + mesh.indices[3 * t], base + mesh.indices[3 * t + 1], base + mesh.indices[3 * t + 2]);
   }
-  auto transform = openvdb::math::Transform::createLinearTransform(grid.voxel_size);
-  transform->postTranslate(openvdb::Vec3d(grid.origin.x, grid.origin.y, grid.origin.z) + 0.5 * double(grid.voxel_size));
+  auto transform = openvdb_transform(grid);
   return time_ms([&] {
     auto level_set = openvdb::tools::meshToLevelSet<openvdb::FloatGrid>(*transform, points, triangles, 3.0f);
     if (level_set->activeVoxelCount() == 0) std::fprintf(stderr, "warning: empty OpenVDB level set\n");

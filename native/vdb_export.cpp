@@ -22,15 +22,19 @@ openvdb::FloatGrid::Ptr to_grid(const NamedField& field) {
   // LayoutXYZ: x varies fastest, as in our buffers.
   openvdb::tools::Dense<const float, openvdb::tools::LayoutXYZ> dense(box, values.data());
   openvdb::tools::copyFromDense(dense, *grid, /*tolerance=*/0.0f);
-  auto transform = openvdb::math::Transform::createLinearTransform(g.voxel_size);
-  transform->postTranslate(openvdb::Vec3d(g.origin.x, g.origin.y, g.origin.z) + 0.5 * double(g.voxel_size));
-  grid->setTransform(transform);
+  grid->setTransform(openvdb_transform(g));
   grid->setName(field.name);
   grid->setGridClass(openvdb::GRID_LEVEL_SET);
   return grid;
 }
 
 }  // namespace
+
+openvdb::math::Transform::Ptr openvdb_transform(const GridSpec& grid) {
+  auto transform = openvdb::math::Transform::createLinearTransform(grid.voxel_size);
+  transform->postTranslate(openvdb::Vec3d(grid.origin.x, grid.origin.y, grid.origin.z) + 0.5 * double(grid.voxel_size));
+  return transform;
+}
 
 void write_vdb(const std::string& path, const std::vector<NamedField>& fields) {
   openvdb::initialize();

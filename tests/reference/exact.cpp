@@ -9,6 +9,7 @@
 #include <limits>
 
 #include "shaders/shared.h"
+#include "vdb_export.h"
 
 namespace rtsdf::reference {
 
@@ -86,8 +87,7 @@ std::vector<float> sample_openvdb(const Scene& scene, const GridSpec& grid, Buil
     for (const dvec3& p : {a, b, c}) points.emplace_back(float(p.x), float(p.y), float(p.z));
     triangles.emplace_back(base, base + 1, base + 2);
   });
-  auto transform = openvdb::math::Transform::createLinearTransform(grid.voxel_size);
-  transform->postTranslate(openvdb::Vec3d(grid.origin.x, grid.origin.y, grid.origin.z) + 0.5 * double(grid.voxel_size));
+  auto transform = openvdb_transform(grid);
   openvdb::FloatGrid::Ptr field = build(*transform, points, triangles);
   std::vector<float> values(grid.voxel_count(), std::numeric_limits<float>::infinity());
   auto accessor = field->getConstAccessor();
