@@ -136,3 +136,123 @@ TEST_F(FineSdfTest, MovedSphereOldPlaceRecoversWithinDecayBound) {
 
 }  // namespace
 }  // namespace rtsdf
+
+namespace rtsdf {
+namespace {
+
+// Fine-SDF statistics over the texels `select` picks: mean |fine - exact| in
+// fine voxels and the share whose sign differs from `expect_negative`.
+struct Band {
+  double mean_error = 0;
+  double wrong_sign = 0;
+  size_t count = 0;
+};
+template <typename Exact, typename Select, typename ExpectNegative>
+Band measure(const GridSpec& grid, const std::vector<float>& fine, Exact exact, Select select,
+             ExpectNegative expect_negative) {
+  Band band;
+  double sum = 0;
+  size_t wrong = 0;
+  for (int z = 0; z < grid.dims.z; ++z)
+    for (int y = 0; y < grid.dims.y; ++y)
+      for (int x = 0; x < grid.dims.x; ++x) {
+        glm::vec3 p = grid.voxel_center({x, y, z});
+        if (!select(p)) continue;
+        float value = fine[size_t(x) + size_t(grid.dims.x) * (y + size_t(grid.dims.y) * z)];
+        sum += std::abs(std::abs(value) - exact(p)) / grid.voxel_size;
+        wrong += (value < 0.0f) != expect_negative(p);
+        band.count++;
+      }
+  band.mean_error = band.count ? sum / double(band.count) : 0.0;
+  band.wrong_sign = band.count ? double(wrong) / double(band.count) : 0.0;
+  return band;
+}
+
+// A one-sided sheet has no inside; by the face-count rule the side its back
+// faces look at reads negative, the side its front faces look at positive.
+TEST_F(FineSdfTest, OneSidedSheetDistanceAndSideSign) {
+  Mesh sheet = reference::sheet({-0.8f, -0.8f}, {0.8f, 0.8f}, 0.0f);  // normal +z
+  reference::append(sheet, reference::box({-1, -1, -0.5f}, {-0.98f, -0.98f, -0.48f}));  // pins the bounds
+  reference::append(sheet, reference::box({0.98f, 0.98f, 0.48f}, {1, 1, 0.5f}));
+  GpuScene scene(context(), single_mesh_scene(sheet));
+  Built b = build(scene, 32, 64, 16);
+  const float v = b.grid.voxel_size;
+  Band band = measure(
+      b.grid, b.fine, [](glm::vec3 p) { return std::abs(p.z); },
+      [&](glm::vec3 p) { return std::abs(p.x) < 0.6f && std::abs(p.y) < 0.6f && std::abs(p.z) > 0.5f * v &&
+                                std::abs(p.z) < 2.0f * v; },
+      [](glm::vec3 p) { return p.z < 0.0f; });
+  std::printf("one-sided sheet 32/64: mean |fine|-exact %.3f fine voxels, wrong side %.2f%% of %zu\n",
+              band.mean_error, 100.0 * band.wrong_sign, band.count);
+  ASSERT_GT(band.count, 500u);
+  EXPECT_LT(band.mean_error, 0.35);
+  EXPECT_LT(band.wrong_sign, 0.02);
+}
+
+// A closed plate far thinner than a voxel: outside on both sides, and no gap
+// (|fine| stays below a voxel across the plate).
+TEST_F(FineSdfTest, TwoSidedThinPlateIsOutsideOnBothSidesWithoutGap) {
+  const float half = 0.001f;
+  Mesh plate = reference::box({-0.8f, -0.8f, -half}, {0.8f, 0.8f, half});
+  reference::append(plate, reference::box({-1, -1, -0.5f}, {-0.98f, -0.98f, -0.48f}));
+  reference::append(plate, reference::box({0.98f, 0.98f, 0.48f}, {1, 1, 0.5f}));
+  GpuScene scene(context(), single_mesh_scene(plate));
+  Built b = build(scene, 32, 64, 16);
+  const float v = b.grid.voxel_size;
+  auto central = [](glm::vec3 p) { return std::abs(p.x) < 0.6f && std::abs(p.y) < 0.6f; };
+  Band sides = measure(
+      b.grid, b.fine, [&](glm::vec3 p) { return std::abs(p.z) - half; },
+      [&](glm::vec3 p) { return central(p) && std::abs(p.z) > 0.5f * v && std::abs(p.z) < 2.0f * v; },
+      [](glm::vec3) { return false; });
+  std::printf("two-sided thin plate 32/64: mean %.3f fine voxels, negative %.2f%% of %zu\n", sides.mean_error,
+              100.0 * sides.wrong_sign, sides.count);
+  ASSERT_GT(sides.count, 500u);
+  EXPECT_LT(sides.mean_error, 0.35);
+  EXPECT_LT(sides.wrong_sign, 0.02);
+  Band across = measure(
+      b.grid, b.fine, [&](glm::vec3 p) { return std::max(std::abs(p.z) - half, 0.0f); },
+      [&](glm::vec3 p) { return central(p) && std::abs(p.z) <= 0.5f * v; }, [](glm::vec3) { return false; });
+  EXPECT_LT(across.mean_error, 0.5) << "the plate must read as a surface, not a gap";
+}
+
+// A deforming mesh (same triangles, new positions): the sphere grows from 0.45
+// to 0.55; after the decay bound the fine SDF matches the new sphere and its
+// old surface, now inside, reads negative.
+TEST_F(FineSdfTest, DeformingMeshFollowsNewPositions) {
+  Mesh sphere = reference::uv_sphere({0, 0, 0}, 0.45f, 48);
+  Mesh markers = reference::box({-1, -1, -1}, {-0.98f, -0.98f, -0.98f});
+  reference::append(markers, reference::box({0.98f, 0.98f, 0.98f}, {1, 1, 1}));
+  Scene scene;
+  scene.meshes = {sphere, markers};
+  scene.instances = {{0, glm::mat4(1.0f)}, {1, glm::mat4(1.0f)}};
+  GpuScene gpu_scene(context(), scene);
+  CoarseSdf coarse(context());
+  FineSdf fine(context());
+  FineTraceSettings settings;
+  const GridSpec coarse_grid = fit_grid(gpu_scene.bounds(), 32);
+  const GridSpec grid = FineSdf::fit(coarse_grid, 64);
+  auto frames = [&](int n) {
+    for (int f = 0; f < n; ++f) {
+      coarse.build(gpu_scene, coarse_grid, 0.5f);
+      fine.update(gpu_scene, coarse, grid, settings);
+    }
+  };
+  frames(8);
+  std::vector<glm::vec3> grown;
+  for (const glm::vec3& p : sphere.positions) grown.push_back(p * (0.55f / 0.45f));
+  gpu_scene.set_mesh_positions(0, grown);
+  frames(24);  // above ceil(ln(1/g0)/ln(alpha)) = 19 frames for alpha 0.9 (see MovedSphere...)
+  const float v = grid.voxel_size;
+  Band band = measure(
+      grid, fine.read_distance(), [](glm::vec3 p) { return std::abs(glm::length(p) - 0.55f); },
+      [&](glm::vec3 p) { return std::abs(glm::length(p) - 0.55f) < 2.0f * v && std::abs(glm::length(p) - 0.55f) > 0.5f * v; },
+      [](glm::vec3 p) { return glm::length(p) < 0.55f; });
+  std::printf("deformed sphere 32/64: mean %.3f fine voxels, wrong sign %.2f%% of %zu\n", band.mean_error,
+              100.0 * band.wrong_sign, band.count);
+  ASSERT_GT(band.count, 500u);
+  EXPECT_LT(band.mean_error, 0.35);
+  EXPECT_LT(band.wrong_sign, 0.02);
+}
+
+}  // namespace
+}  // namespace rtsdf
