@@ -2,59 +2,20 @@
 // mesh and grid, in the same run (the machine is shared: read the ratios).
 //
 //   rtsdf_bench_coarse [MESH] [--res 64,128,256] [--repeats N]
-#include <openvdb/openvdb.h>
-#include <openvdb/tools/MeshToVolume.h>
-
-#include <algorithm>
-#include <chrono>
 #include <cstdio>
 #include <cstring>
 #include <sstream>
 #include <string>
 #include <vector>
 
+#include "bench_common.h"
 #include "coarse_sdf.h"
 #include "mesh_import.h"
-#include "vdb_export.h"
 #include "vk/context.h"
 
-namespace {
-
-using Clock = std::chrono::steady_clock;
-
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  return v.empty() ? 0.0 : v[v.size() / 2];
-}
-
-template <typename F>
-double time_ms(F&& f) {
-  auto start = Clock::now();
-  f();
-  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
-}
-
-double openvdb_build_ms(const rtsdf::Scene& scene, const rtsdf::GridSpec& grid) {
-  std::vector<openvdb::Vec3s> points;
-  std::vector<openvdb::Vec3I> triangles;
-  for (const rtsdf::Instance& instance : scene.instances) {
-    const rtsdf::Mesh& mesh = scene.meshes[instance.mesh];
-    uint32_t base = uint32_t(points.size());
-    for (const glm::vec3& p : mesh.positions) {
-      glm::vec4 w = instance.object_to_world * glm::vec4(p, 1.0f);
-      points.emplace_back(w.x, w.y, w.z);
-    }
-    for (size_t t = 0; t < mesh.triangle_count(); ++t)
-      triangles.emplace_back(base + mesh.indices[3 * t], base + mesh.indices[3 * t + 1], base + mesh.indices[3 * t + 2]);
-  }
-  auto transform = openvdb_transform(grid);
-  return time_ms([&] {
-    auto level_set = openvdb::tools::meshToLevelSet<openvdb::FloatGrid>(*transform, points, triangles, 3.0f);
-    if (level_set->activeVoxelCount() == 0) std::fprintf(stderr, "warning: empty OpenVDB level set\n");
-  });
-}
-
-}  // namespace
+using rtsdf::bench::median;
+using rtsdf::bench::openvdb_build_ms;
+using rtsdf::bench::time_ms;
 
 int main(int argc, char** argv) {
   std::string mesh_path = RTSDF_BENCH_MESH;
