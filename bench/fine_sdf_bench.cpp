@@ -21,6 +21,7 @@ struct Case {
   std::string mesh;
   int fine_resolution;
   int rays;
+  int interleave = 1;
 };
 
 }  // namespace
@@ -39,13 +40,14 @@ int main(int argc, char** argv) {
   const std::string small = RTSDF_MESH_10K, medium = RTSDF_MESH_110K, large = RTSDF_MESH_1M;
   std::vector<Case> cases = {{medium, 128, 8}, {medium, 192, 8}, {medium, 256, 8},  // fine resolution
                              {medium, 128, 4}, {medium, 128, 16},                   // rays per texel
-                             {small, 128, 8}, {large, 128, 8}};                     // triangle count
-  if (quick) cases = {{medium, 128, 8}, {small, 128, 8}};
+                             {small, 128, 8}, {large, 128, 8},                      // triangle count
+                             {medium, 128, 8, 2}, {medium, 128, 8, 4}, {medium, 128, 8, 8}};  // interleave
+  if (quick) cases = {{medium, 128, 8}, {small, 128, 8}, {medium, 128, 8, 4}};
   try {
     rtsdf::vk::Context context;
     std::printf("device %s; coarse 64, d = 2 coarse voxels, alpha 0.9; median of %d frames after one warm-up\n",
                 context.info().name.c_str(), frames);
-    std::printf("%9s %5s %5s %12s %9s %9s %10s %9s %9s %13s\n", "triangles", "fine", "rays", "fine dims",
+    std::printf("%9s %5s %5s %3s %12s %9s %9s %10s %9s %9s %13s\n", "triangles", "fine", "rays", "K", "fine dims",
                 "bvh ms", "texels", "Mrays/s", "fine ms", "openvdb", "openvdb/fine");
     std::map<std::string, std::pair<rtsdf::Scene, std::unique_ptr<rtsdf::GpuScene>>> scenes;
     for (const Case& c : cases) {
@@ -60,6 +62,7 @@ int main(int argc, char** argv) {
       const rtsdf::GridSpec grid = rtsdf::FineSdf::fit(coarse.grid(), c.fine_resolution);
       rtsdf::FineTraceSettings settings;
       settings.rays_per_texel = c.rays;
+      settings.interleave = c.interleave;
       fine.update(*gpu_scene, coarse, grid, settings);
       std::vector<double> ms;
       for (int f = 0; f < frames; ++f) {
@@ -71,11 +74,12 @@ int main(int argc, char** argv) {
       const double vdb_ms = rtsdf::bench::openvdb_build_ms(scene, grid);
       char dims[32];
       std::snprintf(dims, sizeof dims, "%dx%dx%d", grid.dims.x, grid.dims.y, grid.dims.z);
-      std::printf("%9zu %5d %5d %12s %9.1f %9u %10.2f %9.1f %9.1f %13.2f\n", scene.triangle_count(),
-                  c.fine_resolution, c.rays, dims, gpu_scene->bvh_build_ms(), texels,
+      std::printf("%9zu %5d %5d %3d %12s %9.1f %9u %10.2f %9.1f %9.1f %13.2f\n", scene.triangle_count(),
+                  c.fine_resolution, c.rays, c.interleave, dims, gpu_scene->bvh_build_ms(), texels,
                   double(texels) * c.rays / (fine_ms * 1e3), fine_ms, vdb_ms, vdb_ms / fine_ms);
     }
-    std::printf("fine ms = one fine update (classify + trace of the band); openvdb = narrow-band meshToLevelSet\n"
+    std::printf("K = interleave: each band texel traced every K-th frame.\n"
+                "fine ms = one fine update (classify + trace of the band); openvdb = narrow-band meshToLevelSet\n"
                 "(half width 3) of the same fine grid; openvdb/fine > 1 means one update was faster.\n");
   } catch (const std::exception& e) {
     std::fprintf(stderr, "rtsdf_bench_fine: error: %s\n", e.what());

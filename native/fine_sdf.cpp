@@ -55,6 +55,7 @@ void FineSdf::update(const GpuScene& scene, const CoarseSdf& coarse, const GridS
                      const FineTraceSettings& settings) {
   if (settings.rays_per_texel < 1 || settings.rays_per_texel > 1024) throw Error("rays per texel must be 1 to 1024");
   if (!(settings.decay >= 0.0f && settings.decay < 1.0f)) throw Error("decay (alpha) must be in [0, 1)");
+  if (settings.interleave < 1 || settings.interleave > 64) throw Error("interleave must be 1 to 64");
   if (!(settings.trace_band >= 0.0f && settings.trace_band <= 64.0f)) throw Error("trace band d must be 0 to 64 coarse voxels");
   allocate(fine_grid);
   context_.submit_and_wait([&](VkCommandBuffer cmd) {

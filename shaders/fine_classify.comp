@@ -1,8 +1,9 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
 // Fine SDF, step 1: every fine texel reads the coarse SDF at its centre.
-// Texels within the band (c <= d) are appended to the trace list; the others
-// take the coarse value, as the paper does.
+// Texels within the band (c <= d) whose turn it is (one in K per frame) are
+// appended to the trace list; texels outside take the coarse value, as the
+// paper does.
 #include "shared.h"
 #include "seed_common.glsl.h"  // texel indices are packed like seeds
 
@@ -21,8 +22,16 @@ void main() {
   vec3 world = pc.fine_grid.xyz + (vec3(p) + 0.5) * pc.fine_grid.w;
   float c = sample_coarse(world);
   if (c <= pc.params.y) {
-    uint slot = atomicAdd(trace_count, 1u);
-    trace_texels[slot] = pack_seed(p);
+    // A fixed pseudo-random turn per texel spreads each frame's share evenly.
+    uint turn = (uint(p.x) * 73856093u) ^ (uint(p.y) * 19349663u) ^ (uint(p.z) * 83492791u);
+    if ((turn + pc.schedule.y) % pc.schedule.x == 0u) {
+      uint slot = atomicAdd(trace_count, 1u);
+      trace_texels[slot] = pack_seed(p);
+    } else if (pc.coarse_dims.w != 0) {
+      // First frame, not traced yet: start from the same upper bound a traced texel starts from.
+      imageStore(fine, p, vec4(max(c + pc.params.z, 0.0)));
+      imageStore(hit_counts, p, vec4(0.0));
+    }
   } else {
     imageStore(fine, p, vec4(c));
     imageStore(hit_counts, p, vec4(0.0));

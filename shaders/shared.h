@@ -70,6 +70,7 @@ struct FinePush {
   ivec4 coarse_dims;  // w = 1 on the first frame (no history)
   vec4 coarse_grid;   // xyz = origin, w = voxel size (world)
   vec4 params;        // x = alpha, y = trace band d (world), z = decay target bias (world), w = ray length (world)
+  uvec4 schedule;     // x = interleave K (each band texel is traced every K-th frame), y = frame
 };
 
 #define RTSDF_TRACE_GROUP 64
@@ -77,7 +78,7 @@ struct FinePush {
 #ifdef __cplusplus
 static_assert(sizeof(BvhNode) == 48, "BvhNode layout");
 static_assert(sizeof(RayInstance) == 80, "RayInstance layout");
-static_assert(sizeof(FinePush) == 96, "FinePush layout");
+static_assert(sizeof(FinePush) == 112, "FinePush layout");
 static_assert(sizeof(VoxelizePush) == 96, "VoxelizePush layout");
 static_assert(sizeof(JumpFloodPush) == 16, "JumpFloodPush layout");
 static_assert(sizeof(SeedDistancePush) == 32, "SeedDistancePush layout");

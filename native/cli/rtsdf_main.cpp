@@ -124,6 +124,7 @@ int run_sdf(const SdfOptions& options) {
     report["d_world"] = options.fine.trace_band * grid.voxel_size;
     report["alpha"] = options.fine.decay;
     report["rays_per_texel"] = options.fine.rays_per_texel;
+    report["interleave"] = options.fine.interleave;
     report["texels_traced"] = texels_traced;
     report["rays_per_frame"] = uint64_t(texels_traced) * uint64_t(options.fine.rays_per_texel);
     report["ms"]["fine_trace"] = median(fine_frame_ms);
@@ -188,6 +189,10 @@ int main(int argc, char** argv) {
   sdf_cmd->add_option("--alpha", sdf.fine.decay, "Decay alpha: weight of the previous frame's fine SDF, in [0, 1)")
       ->capture_default_str();
   sdf_cmd->add_option("--rays", sdf.fine.rays_per_texel, "Rays per traced texel per frame")->capture_default_str();
+  sdf_cmd->add_option("--interleave", sdf.fine.interleave,
+                      "Trace each band texel every K-th frame (1 to 64): K times less work per frame, K times more "
+                      "frames to converge and to forget a moved surface")
+      ->capture_default_str();
 
   app.add_subcommand("devices", "List the Vulkan devices the loader sees.");
 

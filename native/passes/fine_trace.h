@@ -13,6 +13,10 @@ struct FineTraceSettings {
   float trace_band = 2.0f;      // d, in coarse voxels
   float decay = 0.9f;           // alpha
   int rays_per_texel = 8;
+  // Each band texel is traced every `interleave`-th frame (frameless-rendering
+  // style): per-frame work drops K-fold, convergence and recovery take K times
+  // as many frames.
+  int interleave = 1;
   // Added to c_t where the texel decays towards it. 0 gives the paper's update;
   // the default (beta + half a coarse voxel diagonal) is an upper bound of the
   // true distance, so the min with traced hits converges from above.
@@ -23,7 +27,8 @@ class FineTracePass {
  public:
   explicit FineTracePass(const vk::Context& context);
   // `trace_list` holds a count and one packed texel per fine voxel; `dispatch`
-  // holds the indirect arguments. `frame` picks the ray set.
+  // holds the indirect arguments. `frame` picks the ray set and the interleave turn;
+  // `first_frame` marks a field with no history.
   void record(VkCommandBuffer cmd, const GpuScene& scene, const GridSpec& coarse_grid, const vk::Image3D& coarse,
               const GridSpec& fine_grid, const vk::Image3D& fine, const vk::Image3D& hit_counts,
               const vk::Buffer& trace_list, const vk::Buffer& dispatch, const FineTraceSettings& settings,

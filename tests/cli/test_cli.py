@@ -91,7 +91,7 @@ class SdfCommand(unittest.TestCase):
         fine = vdb.read(out, "fine")
         self.assertEqual(fine.gridClass, vdb.GridClass.LEVEL_SET)
         self.assertAlmostEqual(fine.transform.voxelSize()[0], report["fine_voxel_size"], places=6)
-        for bad in (["--alpha", "1.0"], ["--rays", "0"], ["--fine-res", "16"], ["--frames", "0"]):
+        for bad in (["--alpha", "1.0"], ["--rays", "0"], ["--fine-res", "16"], ["--frames", "0"], ["--interleave", "0"]):
             self.assert_one_line_error(run("sdf", SAMPLE, "--coarse-res", "32", "--fine-res", "64", *bad,
                                            "--out", self.path("x.vdb")), "")
 
@@ -99,7 +99,7 @@ class SdfCommand(unittest.TestCase):
         result = run("sdf", "--help")
         self.assertEqual(result.returncode, 0)
         for flag in ("--coarse-res", "--beta", "--out", "--json", "MESH", "--fine-res", "--frames", "--d", "--alpha",
-                     "--rays"):
+                     "--rays", "--interleave"):
             self.assertIn(flag, result.stdout)
 
     def test_missing_file(self):

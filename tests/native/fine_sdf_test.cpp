@@ -55,6 +55,23 @@ TEST_F(FineSdfTest, RealMeshConvergesTowardsOpenVdb) {
   }
 }
 
+TEST_F(FineSdfTest, InterleavedTracingStillConvergesAndTracesAShare) {
+  Scene scene = import_scene(RTSDF_SAMPLE_MESH);
+  GpuScene gpu_scene(context(), scene);
+  FineTraceSettings every_frame, interleaved;
+  interleaved.interleave = 4;
+  Built full = build(gpu_scene, 64, 128, 1, every_frame);
+  Built quarter = build(gpu_scene, 64, 128, 32, interleaved);
+  // One frame in four traces about a quarter of the band.
+  EXPECT_NEAR(double(quarter.traced) / double(full.traced), 0.25, 0.02);
+  reference::FineErrors e =
+      reference::compare_fine(quarter.fine, reference::signed_distance(scene, quarter.grid, 3.0f), quarter.grid, 2.0f);
+  std::printf("interleave 4, 32 frames: mean |fine-exact| %.3f fine voxels, wrong signs %.2f%%, %u of %u texels per "
+              "frame\n", e.mean_abs_voxels, 100.0 * e.wrong_sign_share, quarter.traced, full.traced);
+  EXPECT_LE(e.mean_abs_voxels, 0.35);
+  EXPECT_LE(e.wrong_sign_share, 0.03);
+}
+
 TEST_F(FineSdfTest, InsideOfClosedMeshIsNegative) {
   GpuScene scene(context(), single_mesh_scene(reference::uv_sphere({0, 0, 0}, 1.0f, 64)));
   Built b = build(scene, 32, 64, 8);
