@@ -51,6 +51,15 @@ TEST_F(FineSdfTest, RealMeshConvergesTowardsOpenVdb) {
     if (frames == 32) {
       EXPECT_LE(e.mean_abs_voxels, 0.35);
       EXPECT_LE(e.wrong_sign_share, 0.03);
+      // Holes: voxels a triangle passes through where the field claims no
+      // surface within the voxel (|fine| above half its diagonal).
+      std::vector<uint8_t> surface = reference::surface_voxels(scene, b.grid);
+      size_t surface_count = 0, holes = 0;
+      for (size_t i = 0; i < surface.size(); ++i)
+        if (surface[i]) surface_count++, holes += std::abs(b.fine[i]) > 0.5f * std::sqrt(3.0f) * b.grid.voxel_size;
+      std::printf("fine holes: %zu of %zu surface voxels (%.3f%%)\n", holes, surface_count,
+                  100.0 * double(holes) / double(surface_count));
+      EXPECT_LT(double(holes), 0.01 * double(surface_count));
     }
   }
 }
