@@ -8,6 +8,10 @@
 #include <string>
 #include <vector>
 
+#include <cstdlib>
+#include <fstream>
+#include <nlohmann/json.hpp>
+
 #include "bench_common.h"
 #include "coarse_sdf.h"
 #include "mesh_import.h"
@@ -68,6 +72,24 @@ int main(int argc, char** argv) {
     }
     std::printf("ms per stage; openvdb = narrow-band meshToLevelSet (half width 3 voxels) on the same grid;\n"
                 "openvdb/wall > 1 means the coarse SDF (whole grid) was built faster than OpenVDB's band.\n");
+
+    // The whole command a user runs (load, Vulkan start-up, build, read-back,
+    // .vdb write), as a separate process, beside OpenVDB's build alone.
+    std::printf("\nwhole 'rtsdf sdf' process against OpenVDB's build alone (median of %d):\n", repeats);
+    for (int resolution : resolutions) {
+      const std::string json = "/tmp/rtsdf_bench_coarse.json", vdb = "/tmp/rtsdf_bench_coarse.vdb";
+      const std::string command = std::string(RTSDF_CLI) + " sdf '" + mesh_path + "' --coarse-res " +
+                                  std::to_string(resolution) + " --out " + vdb + " --json " + json + " > /dev/null";
+      std::vector<double> process, openvdb;
+      for (int r = 0; r < repeats; ++r) {
+        if (std::system(command.c_str()) != 0) throw rtsdf::Error("'" + command + "' failed");
+        nlohmann::json report = nlohmann::json::parse(std::ifstream(json));
+        process.push_back(report["ms"]["process"].get<double>());
+        openvdb.push_back(openvdb_build_ms(scene, rtsdf::fit_grid(gpu_scene.bounds(), resolution)));
+      }
+      std::printf("%5d: rtsdf sdf %.1f ms (ms.process), openvdb build %.1f ms, openvdb/rtsdf %.2f\n", resolution,
+                  median(process), median(openvdb), median(openvdb) / median(process));
+    }
   } catch (const std::exception& e) {
     std::fprintf(stderr, "rtsdf_bench_coarse: error: %s\n", e.what());
     return 1;

@@ -51,16 +51,17 @@ void FineSdf::allocate(const GridSpec& grid) {
   frame_ = 0;
 }
 
-void FineSdf::update(const GpuScene& scene, const CoarseSdf& coarse, const GridSpec& fine_grid,
+void FineSdf::update(GpuScene& scene, const CoarseSdf& coarse, const GridSpec& fine_grid,
                      const FineTraceSettings& settings) {
   if (settings.rays_per_texel < 1 || settings.rays_per_texel > 1024) throw Error("rays per texel must be 1 to 1024");
   if (!(settings.decay >= 0.0f && settings.decay < 1.0f)) throw Error("decay (alpha) must be in [0, 1)");
   if (settings.interleave < 1 || settings.interleave > 64) throw Error("interleave must be 1 to 64");
   if (!(settings.trace_band >= 0.0f && settings.trace_band <= 64.0f)) throw Error("trace band d must be 0 to 64 coarse voxels");
   allocate(fine_grid);
+  const GpuScene::RayStructures& rays = scene.ray_structures();
   context_.submit_and_wait([&](VkCommandBuffer cmd) {
     timer_.begin(cmd);
-    pass_.record(cmd, scene, coarse.grid(), coarse.distance(), grid_, distance_, hit_counts_, trace_list_, dispatch_,
+    pass_.record(cmd, rays, coarse.grid(), coarse.distance(), grid_, distance_, hit_counts_, trace_list_, dispatch_,
                  settings, coarse.beta_world(), frame_, frame_ == 0, &timer_);
   });
   stats_ = {};

@@ -23,7 +23,7 @@ class FineSdf {
 
   // One frame: classify against `coarse` (built this frame) and trace the band.
   // A new grid or reset() starts accumulation afresh.
-  void update(const GpuScene& scene, const CoarseSdf& coarse, const GridSpec& fine_grid,
+  void update(GpuScene& scene, const CoarseSdf& coarse, const GridSpec& fine_grid,
               const FineTraceSettings& settings);
   void reset() { frame_ = 0; }
 

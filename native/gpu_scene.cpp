@@ -36,12 +36,19 @@ GpuScene::GpuScene(const vk::Context& context, const Scene& scene) : context_(co
   scene_.validate();
   bounds_ = scene_.world_bounds();
   upload_raster();
-  Clock::time_point start = Clock::now();
-  mesh_bvhs_.resize(scene_.meshes.size());
-  for (uint32_t m = 0; m < scene_.meshes.size(); ++m) build_bottom_level(m);
-  upload_bottom_levels();
-  build_top_level();
-  bvh_build_ms_ = ms_since(start);
+}
+
+const GpuScene::RayStructures& GpuScene::ray_structures() {
+  if (!has_ray_structures_) {
+    Clock::time_point start = Clock::now();
+    mesh_bvhs_.resize(scene_.meshes.size());
+    for (uint32_t m = 0; m < scene_.meshes.size(); ++m) build_bottom_level(m);
+    upload_bottom_levels();
+    build_top_level();
+    bvh_build_ms_ = ms_since(start);
+    has_ray_structures_ = true;
+  }
+  return rays_;
 }
 
 void GpuScene::upload_raster() {
@@ -73,8 +80,8 @@ void GpuScene::upload_bottom_levels() {
     for (uint32_t t : bvh.order)
       for (int k = 0; k < 3; ++k) corners.emplace_back(mesh.positions[mesh.indices[3 * t + k]], 1.0f);
   }
-  bottom_nodes_ = storage(context_, nodes);
-  triangles_ = storage(context_, corners);
+  rays_.bottom_nodes = storage(context_, nodes);
+  rays_.triangles = storage(context_, corners);
 }
 
 void GpuScene::build_top_level() {
@@ -101,8 +108,8 @@ void GpuScene::build_top_level() {
     ray.mirrored = glm::determinant(glm::mat3(instance.object_to_world)) < 0.0f ? 1u : 0u;
     instances.push_back(ray);
   }
-  top_nodes_ = storage(context_, nodes);
-  ray_instances_ = storage(context_, instances);
+  rays_.top_nodes = storage(context_, nodes);
+  rays_.instances = storage(context_, instances);
 }
 
 void GpuScene::set_transforms(const std::vector<glm::mat4>& object_to_world) {
@@ -115,6 +122,7 @@ void GpuScene::set_transforms(const std::vector<glm::mat4>& object_to_world) {
         if (!std::isfinite(m[c][r])) throw Error("set_transforms: a transform has NaN or infinite entries");
   for (size_t i = 0; i < object_to_world.size(); ++i) scene_.instances[i].object_to_world = object_to_world[i];
   bounds_ = scene_.world_bounds();
+  if (!has_ray_structures_) return;
   Clock::time_point start = Clock::now();
   build_top_level();
   bvh_build_ms_ = ms_since(start);
@@ -129,6 +137,7 @@ void GpuScene::set_mesh_positions(uint32_t mesh, const std::vector<glm::vec3>& p
   scene_ = std::move(deformed);
   bounds_ = scene_.world_bounds();
   upload_raster();
+  if (!has_ray_structures_) return;
   Clock::time_point start = Clock::now();
   build_bottom_level(mesh);
   upload_bottom_levels();

@@ -1,8 +1,9 @@
 #pragma once
 // The scene on the device, in the two forms the passes read:
 // - for rasterization: every mesh's positions and indices in shared buffers;
-// - for ray tracing: one BVH per mesh (bottom level, object space) and a BVH
-//   over the instances (top level, rebuilt whenever a transform changes).
+// - for ray tracing, built on first request (the coarse SDF never needs it):
+//   one BVH per mesh (bottom level, object space) and a BVH over the
+//   instances (top level, rebuilt whenever a transform changes).
 #include <vector>
 
 #include "bvh.h"
@@ -22,6 +23,13 @@ class GpuScene {
   // Validates and uploads `scene`; throws rtsdf::Error on bad input.
   GpuScene(const vk::Context& context, const Scene& scene);
 
+  struct RayStructures {
+    vk::Buffer top_nodes;
+    vk::Buffer instances;
+    vk::Buffer bottom_nodes;
+    vk::Buffer triangles;  // three corners per triangle, in bottom-level leaf order
+  };
+
   // A rigid motion: only the top level is rebuilt.
   void set_transforms(const std::vector<glm::mat4>& object_to_world);
   // A deforming mesh (same triangles, new positions): only its own BVH is rebuilt.
@@ -34,11 +42,9 @@ class GpuScene {
   const Bounds& bounds() const { return bounds_; }
   size_t triangle_count() const { return scene_.triangle_count(); }
 
-  const vk::Buffer& top_nodes() const { return top_nodes_; }
-  const vk::Buffer& ray_instances() const { return ray_instances_; }
-  const vk::Buffer& bottom_nodes() const { return bottom_nodes_; }
-  const vk::Buffer& triangles() const { return triangles_; }
-  // CPU milliseconds of the last BVH work (bottom levels built + top level).
+  // The BVHs, built (or brought up to date) on first use.
+  const RayStructures& ray_structures();
+  // CPU milliseconds of the last BVH work (bottom levels built + top level); 0 before any.
   double bvh_build_ms() const { return bvh_build_ms_; }
 
  private:
@@ -53,12 +59,10 @@ class GpuScene {
   vk::Buffer positions_;
   vk::Buffer indices_;
   std::vector<GpuMeshRange> meshes_;
+  bool has_ray_structures_ = false;
   std::vector<Bvh> mesh_bvhs_;
   std::vector<uint32_t> blas_roots_;
-  vk::Buffer top_nodes_;
-  vk::Buffer ray_instances_;
-  vk::Buffer bottom_nodes_;
-  vk::Buffer triangles_;
+  RayStructures rays_;
   double bvh_build_ms_ = 0.0;
 };
 

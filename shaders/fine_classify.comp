@@ -7,7 +7,7 @@
 #include "shared.h"
 #include "seed_common.glsl.h"  // texel indices are packed like seeds
 
-layout(local_size_x = RTSDF_GROUP_EDGE, local_size_y = RTSDF_GROUP_EDGE, local_size_z = RTSDF_GROUP_EDGE) in;
+layout(local_size_x = RTSDF_GROUP_X, local_size_y = RTSDF_GROUP_Y, local_size_z = RTSDF_GROUP_Z) in;
 layout(binding = 0, r32f) uniform readonly image3D coarse;
 layout(binding = 1, r32f) uniform writeonly image3D fine;
 layout(binding = 2, rg32f) uniform writeonly image3D hit_counts;

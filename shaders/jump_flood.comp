@@ -5,7 +5,7 @@
 #include "shared.h"
 #include "seed_common.glsl.h"
 
-layout(local_size_x = RTSDF_GROUP_EDGE, local_size_y = RTSDF_GROUP_EDGE, local_size_z = RTSDF_GROUP_EDGE) in;
+layout(local_size_x = RTSDF_GROUP_X, local_size_y = RTSDF_GROUP_Y, local_size_z = RTSDF_GROUP_Z) in;
 layout(binding = 0, r32ui) uniform readonly uimage3D seeds_in;
 layout(binding = 1, r32ui) uniform writeonly uimage3D seeds_out;
 layout(push_constant) uniform Push { JumpFloodPush pc; };

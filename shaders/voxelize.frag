@@ -12,30 +12,6 @@ layout(location = 0) flat in uint v_axis;
 layout(location = 1) flat in vec4 v_clip_rect;
 
 
-// Separating-axis test of a triangle against the unit voxel centred at `center`
-// (Akenine-Moeller 2001). Touching counts as overlapping, so thin and tiny
-// triangles always mark the voxels they pass through.
-bool overlaps_voxel(vec3 a, vec3 b, vec3 c, vec3 center) {
-  const float h = 0.5 + 1e-4;
-  vec3 v0 = a - center, v1 = b - center, v2 = c - center;
-  if (any(greaterThan(min(min(v0, v1), v2), vec3(h))) || any(lessThan(max(max(v0, v1), v2), vec3(-h))))
-    return false;
-  vec3 e[3] = vec3[3](v1 - v0, v2 - v1, v0 - v2);
-  vec3 n = cross(e[0], e[1]);
-  if (abs(dot(n, v0)) > h * dot(abs(n), vec3(1.0))) return false;
-  for (int i = 0; i < 3; ++i) {
-    for (int k = 0; k < 3; ++k) {
-      vec3 unit = vec3(0.0);
-      unit[k] = 1.0;
-      vec3 axis = cross(unit, e[i]);
-      float p0 = dot(axis, v0), p1 = dot(axis, v1), p2 = dot(axis, v2);
-      float r = h * dot(abs(axis), vec3(1.0));
-      if (min(min(p0, p1), p2) > r || max(max(p0, p1), p2) < -r) return false;
-    }
-  }
-  return true;
-}
-
 void main() {
   if (any(lessThan(gl_FragCoord.xy, v_clip_rect.xy)) || any(greaterThan(gl_FragCoord.xy, v_clip_rect.zw))) return;
   uint axis = v_axis;

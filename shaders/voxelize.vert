@@ -15,6 +15,12 @@ void main() {
   vec3 p0 = triangle_corner(triangle, 0u);
   vec3 p1 = triangle_corner(triangle, 1u);
   vec3 p2 = triangle_corner(triangle, 2u);
+  if (splat_sized(p0, p1, p2)) {  // marked by voxelize_splat.comp instead
+    gl_Position = vec4(-2.0, -2.0, 0.5, 1.0);
+    v_axis = 0u;
+    v_clip_rect = vec4(0.0);
+    return;
+  }
   uint axis = dominant_axis(cross(p1 - p0, p2 - p0));
   vec2 q[3] = vec2[3](to_view(p0, axis).xy, to_view(p1, axis).xy, to_view(p2, axis).xy);
 

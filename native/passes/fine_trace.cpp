@@ -42,7 +42,7 @@ FineTracePass::FineTracePass(const vk::Context& context)
       trace_(context, RTSDF_SPIRV(spirv_fine_trace_comp),
              {kBuffer, kBuffer, kBuffer, kBuffer, kImage, kImage, kImage, kBuffer}, sizeof(gpu::FinePush)) {}
 
-void FineTracePass::record(VkCommandBuffer cmd, const GpuScene& scene, const GridSpec& coarse_grid,
+void FineTracePass::record(VkCommandBuffer cmd, const GpuScene::RayStructures& scene, const GridSpec& coarse_grid,
                            const vk::Image3D& coarse, const GridSpec& fine_grid, const vk::Image3D& fine,
                            const vk::Image3D& hit_counts, const vk::Buffer& trace_list, const vk::Buffer& dispatch,
                            const FineTraceSettings& settings, float beta_world, uint32_t frame, bool first_frame,
@@ -69,8 +69,7 @@ void FineTracePass::record(VkCommandBuffer cmd, const GpuScene& scene, const Gri
   classify_.push_descriptors(cmd, {vk::Resource::storage_image(coarse), vk::Resource::storage_image(fine),
                                    vk::Resource::storage_image(hit_counts), vk::Resource::storage_buffer(trace_list)});
   classify_.push_constants(cmd, push);
-  vkCmdDispatch(cmd, vk::group_count(fine_grid.dims.x, RTSDF_GROUP_EDGE),
-                vk::group_count(fine_grid.dims.y, RTSDF_GROUP_EDGE), vk::group_count(fine_grid.dims.z, RTSDF_GROUP_EDGE));
+  vk::dispatch_grid(cmd, fine_grid.dims);
   if (timer) timer->mark(cmd, "fine classify");
 
   compute_barrier(cmd);
@@ -81,10 +80,10 @@ void FineTracePass::record(VkCommandBuffer cmd, const GpuScene& scene, const Gri
                   VK_ACCESS_INDIRECT_COMMAND_READ_BIT | VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
 
   trace_.bind(cmd);
-  trace_.push_descriptors(cmd, {vk::Resource::storage_buffer(scene.top_nodes()),
-                                vk::Resource::storage_buffer(scene.ray_instances()),
-                                vk::Resource::storage_buffer(scene.bottom_nodes()),
-                                vk::Resource::storage_buffer(scene.triangles()), vk::Resource::storage_image(coarse),
+  trace_.push_descriptors(cmd, {vk::Resource::storage_buffer(scene.top_nodes),
+                                vk::Resource::storage_buffer(scene.instances),
+                                vk::Resource::storage_buffer(scene.bottom_nodes),
+                                vk::Resource::storage_buffer(scene.triangles), vk::Resource::storage_image(coarse),
                                 vk::Resource::storage_image(fine), vk::Resource::storage_image(hit_counts),
                                 vk::Resource::storage_buffer(trace_list)});
   trace_.push_constants(cmd, push);

@@ -17,11 +17,6 @@ void compute_to_compute(VkCommandBuffer cmd) {
                      VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT);
 }
 
-void dispatch_grid(VkCommandBuffer cmd, glm::ivec3 dims) {
-  vkCmdDispatch(cmd, vk::group_count(dims.x, RTSDF_GROUP_EDGE), vk::group_count(dims.y, RTSDF_GROUP_EDGE),
-                vk::group_count(dims.z, RTSDF_GROUP_EDGE));
-}
-
 }  // namespace
 
 JumpFloodPass::JumpFloodPass(const vk::Context& context)
@@ -49,7 +44,7 @@ const vk::Image3D& JumpFloodPass::record_flood(VkCommandBuffer cmd, const vk::Im
     compute_to_compute(cmd);
     flood_.push_descriptors(cmd, {vk::Resource::storage_image(*source), vk::Resource::storage_image(*target)});
     flood_.push_constants(cmd, gpu::JumpFloodPush{glm::ivec4(a.dims(), step)});
-    dispatch_grid(cmd, a.dims());
+    vk::dispatch_grid(cmd, a.dims());
     if (timer) timer->mark(cmd, "jump_flood step " + std::to_string(step));
     source = target;
     std::swap(target, spare);
@@ -63,7 +58,7 @@ void JumpFloodPass::record_distance(VkCommandBuffer cmd, const vk::Image3D& seed
   distance_.bind(cmd);
   distance_.push_descriptors(cmd, {vk::Resource::storage_image(seeds), vk::Resource::storage_image(distance)});
   distance_.push_constants(cmd, gpu::SeedDistancePush{glm::ivec4(seeds.dims(), 0), glm::vec4(voxel_size, beta_world, 0, 0)});
-  dispatch_grid(cmd, seeds.dims());
+  vk::dispatch_grid(cmd, seeds.dims());
 }
 
 }  // namespace rtsdf

@@ -4,6 +4,7 @@
 
 #include "shaders/shared.h"
 #include "spirv/spirv_voxelize_frag.h"
+#include "spirv/spirv_voxelize_splat_comp.h"
 #include "spirv/spirv_voxelize_vert.h"
 #include "vk/context.h"
 
@@ -13,7 +14,10 @@ VoxelizePass::VoxelizePass(const vk::Context& context)
     : context_(context),
       pipeline_(context, RTSDF_SPIRV(spirv_voxelize_vert), RTSDF_SPIRV(spirv_voxelize_frag),
                 {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
-                sizeof(gpu::VoxelizePush)) {}
+                sizeof(gpu::VoxelizePush)),
+      splat_(context, RTSDF_SPIRV(spirv_voxelize_splat_comp),
+             {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
+             sizeof(gpu::VoxelizePush)) {}
 
 void VoxelizePass::record(VkCommandBuffer cmd, const GpuScene& scene, const GridSpec& grid,
                           const vk::Image3D& seeds) {
@@ -50,18 +54,33 @@ void VoxelizePass::record(VkCommandBuffer cmd, const GpuScene& scene, const Grid
                                    vk::Resource::storage_buffer(scene.indices()),
                                    vk::Resource::storage_image(seeds)});
   const glm::mat4 world_to_voxel = grid.world_to_voxel();
-  for (const Instance& instance : scene.instances()) {
+  auto push_for = [&](const Instance& instance) {
     const GpuMeshRange& mesh = scene.meshes()[instance.mesh];
-    if (mesh.triangle_count == 0) continue;
     gpu::VoxelizePush push{};
     push.object_to_voxel = world_to_voxel * instance.object_to_world;
     push.dims = glm::ivec4(grid.dims, int(edge));
     push.first_index = mesh.first_index;
     push.base_vertex = mesh.base_vertex;
+    push.triangle_count = mesh.triangle_count;
+    return push;
+  };
+  for (const Instance& instance : scene.instances()) {
+    gpu::VoxelizePush push = push_for(instance);
+    if (push.triangle_count == 0) continue;
     pipeline_.push_constants(cmd, push);
-    vkCmdDraw(cmd, 3 * mesh.triangle_count, 1, 0, 0);
+    vkCmdDraw(cmd, 3 * push.triangle_count, 1, 0, 0);
   }
   vkCmdEndRenderPass(cmd);
+
+  splat_.bind(cmd);
+  splat_.push_descriptors(cmd, {vk::Resource::storage_buffer(scene.positions()),
+                                vk::Resource::storage_buffer(scene.indices()), vk::Resource::storage_image(seeds)});
+  for (const Instance& instance : scene.instances()) {
+    gpu::VoxelizePush push = push_for(instance);
+    if (push.triangle_count == 0) continue;
+    splat_.push_constants(cmd, push);
+    vkCmdDispatch(cmd, vk::group_count(int(push.triangle_count), 64), 1, 1);
+  }
 }
 
 }  // namespace rtsdf

@@ -1,6 +1,8 @@
 #pragma once
-// Pass 1a: rasterized voxelization. Every voxel that a triangle passes through
-// becomes a seed holding its own packed index; the rest hold kNoSeed.
+// Pass 1a: voxelization. Every voxel that a triangle passes through becomes a
+// seed holding its own packed index; the rest hold kNoSeed. Triangles are
+// rasterized along their dominant axis; those spanning under 2 voxels per axis
+// are splatted by a compute shader instead (cheaper than a raster setup).
 #include <memory>
 
 #include "grid.h"
@@ -18,6 +20,7 @@ class VoxelizePass {
  private:
   const vk::Context& context_;
   vk::Pipeline pipeline_;
+  vk::Pipeline splat_;
   std::unique_ptr<vk::EmptyFramebuffer> framebuffer_;
   uint32_t framebuffer_edge_ = 0;
 };

@@ -1,5 +1,6 @@
 #include "vk/pipeline.h"
 
+#include "shaders/shared.h"
 #include "vk/context.h"
 #include "vk/resources.h"
 
@@ -185,6 +186,11 @@ void Pipeline::push_descriptors(VkCommandBuffer cmd, std::initializer_list<Resou
 
 void Pipeline::push_constant_bytes(VkCommandBuffer cmd, const void* data, uint32_t bytes) const {
   vkCmdPushConstants(cmd, layout_, stages_, 0, bytes, data);
+}
+
+void dispatch_grid(VkCommandBuffer cmd, glm::ivec3 dims) {
+  vkCmdDispatch(cmd, group_count(dims.x, RTSDF_GROUP_X), group_count(dims.y, RTSDF_GROUP_Y),
+                group_count(dims.z, RTSDF_GROUP_Z));
 }
 
 EmptyFramebuffer::EmptyFramebuffer(const Context& context, VkRenderPass pass, uint32_t width, uint32_t height)

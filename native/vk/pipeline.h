@@ -5,6 +5,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <glm/glm.hpp>
 #include <initializer_list>
 #include <vector>
 
@@ -80,5 +81,9 @@ class EmptyFramebuffer {
 
 // Work groups needed to cover `count` items with groups of `group`.
 inline uint32_t group_count(int count, int group) { return uint32_t((count + group - 1) / group); }
+
+// Dispatches one invocation per voxel of a dims.x * dims.y * dims.z grid, in
+// the work-group shape the 3D passes declare (RTSDF_GROUP_X/Y/Z).
+void dispatch_grid(VkCommandBuffer cmd, glm::ivec3 dims);
 
 }  // namespace rtsdf::vk
