@@ -23,6 +23,17 @@ double ms_since(Clock::time_point start) {
   return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
 }
 
+// The command bakes a static mesh over --frames frames. Tracing each band
+// texel every 4th frame costs a quarter per frame and, measured on the sample
+// (README), ends 32 frames both sooner in total and closer to the exact
+// distance than tracing every frame; its only cost, forgetting a moved
+// surface 4x slower, does not arise for a static mesh.
+rtsdf::FineTraceSettings static_bake_settings() {
+  rtsdf::FineTraceSettings settings;
+  settings.interleave = 4;
+  return settings;
+}
+
 struct SdfOptions {
   std::string mesh;
   int coarse_resolution = 64;
@@ -32,7 +43,7 @@ struct SdfOptions {
   std::string device;
   int fine_resolution = 0;  // 0: coarse only
   int frames = 32;
-  rtsdf::FineTraceSettings fine;
+  rtsdf::FineTraceSettings fine = static_bake_settings();
 };
 
 double median(std::vector<double> values) {
@@ -191,7 +202,7 @@ int main(int argc, char** argv) {
   sdf_cmd->add_option("--rays", sdf.fine.rays_per_texel, "Rays per traced texel per frame")->capture_default_str();
   sdf_cmd->add_option("--interleave", sdf.fine.interleave,
                       "Trace each band texel every K-th frame (1 to 64): K times less work per frame, K times more "
-                      "frames to converge and to forget a moved surface")
+                      "frames to converge and to forget a moved surface (1 = every frame, as in the paper)")
       ->capture_default_str();
 
   app.add_subcommand("devices", "List the Vulkan devices the loader sees.");

@@ -8,24 +8,15 @@
 #include "reference/exact.h"
 #include "vulkan_test.h"
 
-#ifndef RTSDF_SAMPLE_MESH
-#error "RTSDF_SAMPLE_MESH must name the sample mesh file"
-#endif
 
 namespace rtsdf {
 namespace {
-
-// RTSDF_TEST_MESH=FILE measures another mesh (e.g. a held-out model) the same way.
-std::string test_mesh() {
-  const char* path = std::getenv("RTSDF_TEST_MESH");
-  return path && *path ? path : RTSDF_SAMPLE_MESH;
-}
 
 class CoarseSdfMesh : public testing::VulkanTest, public ::testing::WithParamInterface<int> {};
 
 TEST_P(CoarseSdfMesh, MatchesOpenVdbAndLeavesNoHoles) {
   const int resolution = GetParam();
-  const std::string mesh = test_mesh();
+  const std::string mesh = testing::test_mesh_path();
   Scene scene = import_scene(mesh);
   GpuScene gpu_scene(context(), scene);
   GridSpec grid = fit_grid(gpu_scene.bounds(), resolution);

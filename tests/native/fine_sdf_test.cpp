@@ -15,6 +15,18 @@
 namespace rtsdf {
 namespace {
 
+// Voxels a triangle passes through where the field claims no surface within
+// the voxel (|fine| above half its diagonal), as a share of such voxels.
+double hole_share(const Scene& scene, const GridSpec& grid, const std::vector<float>& fine) {
+  std::vector<uint8_t> surface = reference::surface_voxels(scene, grid);
+  size_t surface_count = 0, holes = 0;
+  for (size_t i = 0; i < surface.size(); ++i)
+    if (surface[i]) surface_count++, holes += std::abs(fine[i]) > 0.5f * std::sqrt(3.0f) * grid.voxel_size;
+  std::printf("fine holes: %zu of %zu surface voxels (%.3f%%)\n", holes, surface_count,
+              100.0 * double(holes) / double(surface_count));
+  return double(holes) / double(surface_count);
+}
+
 class FineSdfTest : public testing::VulkanTest {
  protected:
   struct Built {
@@ -33,8 +45,7 @@ class FineSdfTest : public testing::VulkanTest {
 };
 
 TEST_F(FineSdfTest, RealMeshConvergesTowardsOpenVdb) {
-  const char* env = std::getenv("RTSDF_TEST_MESH");
-  const std::string path = env && *env ? env : RTSDF_SAMPLE_MESH;
+  const std::string path = testing::test_mesh_path();
   Scene scene = import_scene(path);
   GpuScene gpu_scene(context(), scene);
   std::vector<float> exact;
@@ -51,21 +62,13 @@ TEST_F(FineSdfTest, RealMeshConvergesTowardsOpenVdb) {
     if (frames == 32) {
       EXPECT_LE(e.mean_abs_voxels, 0.35);
       EXPECT_LE(e.wrong_sign_share, 0.03);
-      // Holes: voxels a triangle passes through where the field claims no
-      // surface within the voxel (|fine| above half its diagonal).
-      std::vector<uint8_t> surface = reference::surface_voxels(scene, b.grid);
-      size_t surface_count = 0, holes = 0;
-      for (size_t i = 0; i < surface.size(); ++i)
-        if (surface[i]) surface_count++, holes += std::abs(b.fine[i]) > 0.5f * std::sqrt(3.0f) * b.grid.voxel_size;
-      std::printf("fine holes: %zu of %zu surface voxels (%.3f%%)\n", holes, surface_count,
-                  100.0 * double(holes) / double(surface_count));
-      EXPECT_LT(double(holes), 0.01 * double(surface_count));
+      EXPECT_LT(hole_share(scene, b.grid, b.fine), 0.01);
     }
   }
 }
 
 TEST_F(FineSdfTest, InterleavedTracingStillConvergesAndTracesAShare) {
-  Scene scene = import_scene(RTSDF_SAMPLE_MESH);
+  Scene scene = import_scene(testing::test_mesh_path());
   GpuScene gpu_scene(context(), scene);
   FineTraceSettings every_frame, interleaved;
   interleaved.interleave = 4;
@@ -79,6 +82,7 @@ TEST_F(FineSdfTest, InterleavedTracingStillConvergesAndTracesAShare) {
               "frame\n", e.mean_abs_voxels, 100.0 * e.wrong_sign_share, quarter.traced, full.traced);
   EXPECT_LE(e.mean_abs_voxels, 0.35);
   EXPECT_LE(e.wrong_sign_share, 0.03);
+  EXPECT_LT(hole_share(scene, quarter.grid, quarter.fine), 0.01);
 }
 
 TEST_F(FineSdfTest, InsideOfClosedMeshIsNegative) {

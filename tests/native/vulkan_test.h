@@ -3,11 +3,20 @@
 // validation layer on; a test fails if validation said anything during it.
 #include <gtest/gtest.h>
 
+#include <cstdlib>
 #include <memory>
+#include <string>
 
 #include "vk/context.h"
 
 namespace rtsdf::testing {
+
+// The real mesh the mesh tests measure: RTSDF_TEST_MESH=FILE (e.g. a held-out
+// model), else the bundled sample.
+inline std::string test_mesh_path() {
+  const char* path = std::getenv("RTSDF_TEST_MESH");
+  return path && *path ? path : RTSDF_SAMPLE_MESH;
+}
 
 class VulkanTest : public ::testing::Test {
  public:
