@@ -12,7 +12,7 @@ const VkImageUsageFlags kGridUsage =
     VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT;
 
 template <typename T>
-std::vector<T> read_image(const vk::Context& context, const vk::Image3D& image) {
+std::vector<T> read_image(const vk::Context& context, const vk::Image& image) {
   vk::Buffer readback = vk::download_image(context, image, sizeof(T));
   std::vector<T> values(image.texel_count());
   std::memcpy(values.data(), readback.mapped(), values.size() * sizeof(T));
@@ -35,12 +35,12 @@ void CoarseSdf::allocate(const GridSpec& grid) {
                 std::to_string(grid.dims.z) + " grid needs " + std::to_string(needed >> 20) + " MiB but the device " +
                 context_.info().name + " has " + std::to_string(available >> 20) + " MiB: lower the resolution");
   distance_ = {};
-  seeds_ = vk::Image3D(context_, grid.dims, VK_FORMAT_R32_UINT, kGridUsage);
-  flood_a_ = vk::Image3D(context_, grid.dims, VK_FORMAT_R32_UINT, kGridUsage);
-  flood_b_ = vk::Image3D(context_, grid.dims, VK_FORMAT_R32_UINT, kGridUsage);
-  distance_ = vk::Image3D(context_, grid.dims, VK_FORMAT_R32_SFLOAT, kGridUsage | VK_IMAGE_USAGE_SAMPLED_BIT);
+  seeds_ = vk::Image(context_, grid.dims, VK_FORMAT_R32_UINT, kGridUsage);
+  flood_a_ = vk::Image(context_, grid.dims, VK_FORMAT_R32_UINT, kGridUsage);
+  flood_b_ = vk::Image(context_, grid.dims, VK_FORMAT_R32_UINT, kGridUsage);
+  distance_ = vk::Image(context_, grid.dims, VK_FORMAT_R32_SFLOAT, kGridUsage | VK_IMAGE_USAGE_SAMPLED_BIT);
   context_.submit_and_wait([&](VkCommandBuffer cmd) {
-    for (const vk::Image3D* image : {&seeds_, &flood_a_, &flood_b_, &distance_})
+    for (const vk::Image* image : {&seeds_, &flood_a_, &flood_b_, &distance_})
       vk::image_barrier(cmd, image->handle(), VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL, 0,
                         VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT,
                         VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT);
@@ -55,7 +55,7 @@ void CoarseSdf::build(const GpuScene& scene, const GridSpec& grid, float beta_vo
     timer_.begin(cmd);
     voxelize_.record(cmd, scene, grid, seeds_);
     timer_.mark(cmd, "voxelize");
-    const vk::Image3D& nearest = jump_flood_.record_flood(cmd, seeds_, flood_a_, flood_b_, &timer_);
+    const vk::Image& nearest = jump_flood_.record_flood(cmd, seeds_, flood_a_, flood_b_, &timer_);
     jump_flood_.record_distance(cmd, nearest, distance_, grid.voxel_size, beta_world_);
     timer_.mark(cmd, "seed distance");
   });

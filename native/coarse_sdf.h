@@ -33,7 +33,7 @@ class CoarseSdf {
 
   const GridSpec& grid() const { return grid_; }
   float beta_world() const { return beta_world_; }
-  const vk::Image3D& distance() const { return distance_; }
+  const vk::Image& distance() const { return distance_; }
   const CoarseSdfTimings& timings() const { return timings_; }
 
   // Read-backs for tools and tests (x fastest, then y, then z).
@@ -49,10 +49,10 @@ class CoarseSdf {
   vk::GpuTimer timer_;
   GridSpec grid_;
   float beta_world_ = 0.0f;
-  vk::Image3D seeds_;     // voxelization output; the flood reads it and leaves it
-  vk::Image3D flood_a_;
-  vk::Image3D flood_b_;
-  vk::Image3D distance_;
+  vk::Image seeds_;     // voxelization output; the flood reads it and leaves it
+  vk::Image flood_a_;
+  vk::Image flood_b_;
+  vk::Image distance_;
   CoarseSdfTimings timings_;
 };
 

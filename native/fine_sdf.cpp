@@ -32,8 +32,8 @@ void FineSdf::allocate(const GridSpec& grid) {
     throw Error("the fine grid needs " + std::to_string(needed >> 20) + " MiB: lower the fine resolution");
   const VkImageUsageFlags usage =
       VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT | VK_IMAGE_USAGE_SAMPLED_BIT;
-  distance_ = vk::Image3D(context_, grid.dims, VK_FORMAT_R32_SFLOAT, usage);
-  hit_counts_ = vk::Image3D(context_, grid.dims, VK_FORMAT_R32G32_SFLOAT, usage);
+  distance_ = vk::Image(context_, grid.dims, VK_FORMAT_R32_SFLOAT, usage);
+  hit_counts_ = vk::Image(context_, grid.dims, VK_FORMAT_R32G32_SFLOAT, usage);
   trace_list_ = vk::Buffer(context_, (grid.voxel_count() + 1) * sizeof(uint32_t),
                            VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT |
                                VK_BUFFER_USAGE_TRANSFER_SRC_BIT,
@@ -42,7 +42,7 @@ void FineSdf::allocate(const GridSpec& grid) {
                          VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT,
                          vk::Buffer::Access::DeviceOnly);
   context_.submit_and_wait([&](VkCommandBuffer cmd) {
-    for (const vk::Image3D* image : {&distance_, &hit_counts_})
+    for (const vk::Image* image : {&distance_, &hit_counts_})
       vk::image_barrier(cmd, image->handle(), VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL, 0,
                         VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT,
                         VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT);

@@ -28,7 +28,7 @@ class FineSdf {
   void reset() { frame_ = 0; }
 
   const GridSpec& grid() const { return grid_; }
-  const vk::Image3D& distance() const { return distance_; }
+  const vk::Image& distance() const { return distance_; }
   uint32_t frames() const { return frame_; }
   const FineFrameStats& last_frame() const { return stats_; }
 
@@ -43,8 +43,8 @@ class FineSdf {
   FineTracePass pass_;
   vk::GpuTimer timer_;
   GridSpec grid_;
-  vk::Image3D distance_;
-  vk::Image3D hit_counts_;
+  vk::Image distance_;
+  vk::Image hit_counts_;
   vk::Buffer trace_list_;
   vk::Buffer dispatch_;
   uint32_t frame_ = 0;

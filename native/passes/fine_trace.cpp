@@ -43,8 +43,8 @@ FineTracePass::FineTracePass(const vk::Context& context)
              {kBuffer, kBuffer, kBuffer, kBuffer, kImage, kImage, kImage, kBuffer}, sizeof(gpu::FinePush)) {}
 
 void FineTracePass::record(VkCommandBuffer cmd, const GpuScene::RayStructures& scene, const GridSpec& coarse_grid,
-                           const vk::Image3D& coarse, const GridSpec& fine_grid, const vk::Image3D& fine,
-                           const vk::Image3D& hit_counts, const vk::Buffer& trace_list, const vk::Buffer& dispatch,
+                           const vk::Image& coarse, const GridSpec& fine_grid, const vk::Image& fine,
+                           const vk::Image& hit_counts, const vk::Buffer& trace_list, const vk::Buffer& dispatch,
                            const FineTraceSettings& settings, float beta_world, uint32_t frame, bool first_frame,
                            vk::GpuTimer* timer) const {
   const float coarse_voxel = coarse_grid.voxel_size;

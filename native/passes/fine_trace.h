@@ -29,8 +29,8 @@ class FineTracePass {
   // `trace_list` holds a count and one packed texel per fine voxel; `dispatch`
   // holds the indirect arguments. `frame` picks the ray set and the interleave turn;
   // `first_frame` marks a field with no history.
-  void record(VkCommandBuffer cmd, const GpuScene::RayStructures& scene, const GridSpec& coarse_grid, const vk::Image3D& coarse,
-              const GridSpec& fine_grid, const vk::Image3D& fine, const vk::Image3D& hit_counts,
+  void record(VkCommandBuffer cmd, const GpuScene::RayStructures& scene, const GridSpec& coarse_grid, const vk::Image& coarse,
+              const GridSpec& fine_grid, const vk::Image& fine, const vk::Image& hit_counts,
               const vk::Buffer& trace_list, const vk::Buffer& dispatch, const FineTraceSettings& settings,
               float beta_world, uint32_t frame, bool first_frame, vk::GpuTimer* timer) const;
 

@@ -34,11 +34,11 @@ std::vector<int> JumpFloodPass::steps(glm::ivec3 dims) {
   return steps;
 }
 
-const vk::Image3D& JumpFloodPass::record_flood(VkCommandBuffer cmd, const vk::Image3D& seeds, const vk::Image3D& a,
-                                               const vk::Image3D& b, vk::GpuTimer* timer) const {
-  const vk::Image3D* source = &seeds;
-  const vk::Image3D* target = &a;
-  const vk::Image3D* spare = &b;
+const vk::Image& JumpFloodPass::record_flood(VkCommandBuffer cmd, const vk::Image& seeds, const vk::Image& a,
+                                               const vk::Image& b, vk::GpuTimer* timer) const {
+  const vk::Image* source = &seeds;
+  const vk::Image* target = &a;
+  const vk::Image* spare = &b;
   flood_.bind(cmd);
   for (int step : steps(seeds.dims())) {
     compute_to_compute(cmd);
@@ -52,7 +52,7 @@ const vk::Image3D& JumpFloodPass::record_flood(VkCommandBuffer cmd, const vk::Im
   return *source;
 }
 
-void JumpFloodPass::record_distance(VkCommandBuffer cmd, const vk::Image3D& seeds, const vk::Image3D& distance,
+void JumpFloodPass::record_distance(VkCommandBuffer cmd, const vk::Image& seeds, const vk::Image& distance,
                                     float voxel_size, float beta_world) const {
   compute_to_compute(cmd);
   distance_.bind(cmd);

@@ -22,10 +22,10 @@ class JumpFloodPass {
 
   // Floods from `seeds` (left unchanged) through `a` and `b` in turn.
   // Returns the image that holds the result. Marks the timer after each pass.
-  const vk::Image3D& record_flood(VkCommandBuffer cmd, const vk::Image3D& seeds, const vk::Image3D& a,
-                                  const vk::Image3D& b, vk::GpuTimer* timer) const;
+  const vk::Image& record_flood(VkCommandBuffer cmd, const vk::Image& seeds, const vk::Image& a,
+                                  const vk::Image& b, vk::GpuTimer* timer) const;
   // distance = |voxel centre - nearest seed centre| * voxel_size - beta_world.
-  void record_distance(VkCommandBuffer cmd, const vk::Image3D& seeds, const vk::Image3D& distance,
+  void record_distance(VkCommandBuffer cmd, const vk::Image& seeds, const vk::Image& distance,
                        float voxel_size, float beta_world) const;
 
  private:

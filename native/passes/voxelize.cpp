@@ -20,13 +20,13 @@ VoxelizePass::VoxelizePass(const vk::Context& context)
              sizeof(gpu::VoxelizePush)) {}
 
 void VoxelizePass::record(VkCommandBuffer cmd, const GpuScene& scene, const GridSpec& grid,
-                          const vk::Image3D& seeds) {
+                          const vk::Image& seeds) {
   // Each triangle is drawn along its own dominant axis into one of three
   // squares side by side, each big enough for any face of the grid.
   uint32_t edge = uint32_t(std::max(grid.dims.x, std::max(grid.dims.y, grid.dims.z)));
   const uint32_t width = 3 * edge;
   if (!framebuffer_ || framebuffer_edge_ != edge) {
-    framebuffer_ = std::make_unique<vk::EmptyFramebuffer>(context_, pipeline_.render_pass(), width, edge);
+    framebuffer_ = std::make_unique<vk::Framebuffer>(context_, pipeline_.render_pass(), width, edge);
     framebuffer_edge_ = edge;
   }
 

@@ -15,13 +15,13 @@ class VoxelizePass {
  public:
   explicit VoxelizePass(const vk::Context& context);
   // `seeds` must be an r32ui storage image of the grid's dims in GENERAL layout.
-  void record(VkCommandBuffer cmd, const GpuScene& scene, const GridSpec& grid, const vk::Image3D& seeds);
+  void record(VkCommandBuffer cmd, const GpuScene& scene, const GridSpec& grid, const vk::Image& seeds);
 
  private:
   const vk::Context& context_;
   vk::Pipeline pipeline_;
   vk::Pipeline splat_;
-  std::unique_ptr<vk::EmptyFramebuffer> framebuffer_;
+  std::unique_ptr<vk::Framebuffer> framebuffer_;
   uint32_t framebuffer_edge_ = 0;
 };
 

@@ -36,7 +36,7 @@ VkPipelineShaderStageCreateInfo stage_info(VkShaderStageFlagBits stage, const Sh
 
 }  // namespace
 
-Resource Resource::storage_image(const Image3D& image) {
+Resource Resource::storage_image(const Image& image) {
   Resource r{VK_DESCRIPTOR_TYPE_STORAGE_IMAGE};
   r.image = {VK_NULL_HANDLE, image.view(), VK_IMAGE_LAYOUT_GENERAL};
   return r;
@@ -89,25 +89,55 @@ Pipeline::Pipeline(const Context& context, Spirv compute, std::vector<VkDescript
 }
 
 Pipeline::Pipeline(const Context& context, Spirv vertex, Spirv fragment, std::vector<VkDescriptorType> bindings,
-                   uint32_t push_bytes)
+                   uint32_t push_bytes, const RenderTargets& targets)
     : device_(context.device()), bind_point_(VK_PIPELINE_BIND_POINT_GRAPHICS) {
   try {
     create_layout(std::move(bindings), push_bytes, VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT);
 
+    std::vector<VkAttachmentDescription> attachments;
+    std::vector<VkAttachmentReference> color_refs;
+    for (VkFormat format : targets.colors) {
+      color_refs.push_back({uint32_t(attachments.size()), VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL});
+      attachments.push_back({0, format, VK_SAMPLE_COUNT_1_BIT, VK_ATTACHMENT_LOAD_OP_CLEAR,
+                             VK_ATTACHMENT_STORE_OP_STORE, VK_ATTACHMENT_LOAD_OP_DONT_CARE,
+                             VK_ATTACHMENT_STORE_OP_DONT_CARE, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL});
+    }
+    const bool has_depth = targets.depth != VK_FORMAT_UNDEFINED;
+    VkAttachmentReference depth_ref{uint32_t(attachments.size()), VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL};
+    if (has_depth)
+      attachments.push_back({0, targets.depth, VK_SAMPLE_COUNT_1_BIT, VK_ATTACHMENT_LOAD_OP_CLEAR,
+                             VK_ATTACHMENT_STORE_OP_DONT_CARE, VK_ATTACHMENT_LOAD_OP_DONT_CARE,
+                             VK_ATTACHMENT_STORE_OP_DONT_CARE, VK_IMAGE_LAYOUT_UNDEFINED,
+                             VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL});
     VkSubpassDescription subpass{};
     subpass.pipelineBindPoint = VK_PIPELINE_BIND_POINT_GRAPHICS;
-    VkSubpassDependency after{};  // storage writes visible to later compute and transfer
+    subpass.colorAttachmentCount = uint32_t(color_refs.size());
+    subpass.pColorAttachments = color_refs.data();
+    subpass.pDepthStencilAttachment = has_depth ? &depth_ref : nullptr;
+    VkSubpassDependency after{};  // attachment and storage writes visible to later compute and transfer
     after.srcSubpass = 0;
     after.dstSubpass = VK_SUBPASS_EXTERNAL;
-    after.srcStageMask = VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT;
+    after.srcStageMask = VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT | VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT;
     after.dstStageMask = VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT;
-    after.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT;
+    after.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT;
     after.dstAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_READ_BIT;
+    VkSubpassDependency before{};  // earlier compute reads of the targets finish before they are cleared
+    before.srcSubpass = VK_SUBPASS_EXTERNAL;
+    before.dstSubpass = 0;
+    before.srcStageMask = VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT;
+    before.dstStageMask = VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT | VK_PIPELINE_STAGE_EARLY_FRAGMENT_TESTS_BIT |
+                          VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT;
+    before.srcAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_TRANSFER_READ_BIT;
+    before.dstAccessMask = VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT | VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT |
+                           VK_ACCESS_SHADER_WRITE_BIT;
+    VkSubpassDependency dependencies[] = {before, after};
     VkRenderPassCreateInfo pass_info{VK_STRUCTURE_TYPE_RENDER_PASS_CREATE_INFO};
+    pass_info.attachmentCount = uint32_t(attachments.size());
+    pass_info.pAttachments = attachments.data();
     pass_info.subpassCount = 1;
     pass_info.pSubpasses = &subpass;
-    pass_info.dependencyCount = 1;
-    pass_info.pDependencies = &after;
+    pass_info.dependencyCount = 2;
+    pass_info.pDependencies = dependencies;
     VK_CHECK(vkCreateRenderPass(device_, &pass_info, nullptr, &render_pass_));
 
     ShaderModule vs(device_, vertex), fs(device_, fragment);
@@ -126,7 +156,16 @@ Pipeline::Pipeline(const Context& context, Spirv vertex, Spirv fragment, std::ve
     VkPipelineMultisampleStateCreateInfo multisample{VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO};
     multisample.rasterizationSamples = VK_SAMPLE_COUNT_1_BIT;
     VkPipelineDepthStencilStateCreateInfo depth{VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO};
+    depth.depthTestEnable = has_depth;
+    depth.depthWriteEnable = has_depth;
+    depth.depthCompareOp = VK_COMPARE_OP_LESS_OR_EQUAL;
+    std::vector<VkPipelineColorBlendAttachmentState> blends(targets.colors.size());
+    for (auto& b : blends)
+      b.colorWriteMask = VK_COLOR_COMPONENT_R_BIT | VK_COLOR_COMPONENT_G_BIT | VK_COLOR_COMPONENT_B_BIT |
+                         VK_COLOR_COMPONENT_A_BIT;
     VkPipelineColorBlendStateCreateInfo blend{VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO};
+    blend.attachmentCount = uint32_t(blends.size());
+    blend.pAttachments = blends.data();
     VkDynamicState dynamic_states[] = {VK_DYNAMIC_STATE_VIEWPORT, VK_DYNAMIC_STATE_SCISSOR};
     VkPipelineDynamicStateCreateInfo dynamic{VK_STRUCTURE_TYPE_PIPELINE_DYNAMIC_STATE_CREATE_INFO};
     dynamic.dynamicStateCount = 2;
@@ -193,16 +232,19 @@ void dispatch_grid(VkCommandBuffer cmd, glm::ivec3 dims) {
                 group_count(dims.z, RTSDF_GROUP_Z));
 }
 
-EmptyFramebuffer::EmptyFramebuffer(const Context& context, VkRenderPass pass, uint32_t width, uint32_t height)
+Framebuffer::Framebuffer(const Context& context, VkRenderPass pass, uint32_t width, uint32_t height,
+                         const std::vector<VkImageView>& views)
     : device_(context.device()) {
   VkFramebufferCreateInfo info{VK_STRUCTURE_TYPE_FRAMEBUFFER_CREATE_INFO};
   info.renderPass = pass;
+  info.attachmentCount = uint32_t(views.size());
+  info.pAttachments = views.data();
   info.width = width;
   info.height = height;
   info.layers = 1;
   VK_CHECK(vkCreateFramebuffer(device_, &info, nullptr, &framebuffer_));
 }
 
-EmptyFramebuffer::~EmptyFramebuffer() { vkDestroyFramebuffer(device_, framebuffer_, nullptr); }
+Framebuffer::~Framebuffer() { vkDestroyFramebuffer(device_, framebuffer_, nullptr); }
 
 }  // namespace rtsdf::vk

@@ -13,7 +13,7 @@ namespace rtsdf::vk {
 
 class Context;
 class Buffer;
-class Image3D;
+class Image;
 
 struct Spirv {
   const uint32_t* words;
@@ -25,20 +25,28 @@ struct Resource {
   VkDescriptorType type;
   VkDescriptorImageInfo image{};
   VkDescriptorBufferInfo buffer{};
-  static Resource storage_image(const Image3D& image);
+  static Resource storage_image(const Image& image);
   static Resource storage_buffer(const Buffer& buffer);
   static Resource sampled_image(VkImageView view, VkSampler sampler);
+};
+
+// Render targets of a graphics pipeline: colour formats (cleared to zero,
+// left in GENERAL layout for compute passes to read) and an optional depth
+// format (cleared to 1, less-or-equal test). None: output only by storage writes.
+struct RenderTargets {
+  std::vector<VkFormat> colors;
+  VkFormat depth = VK_FORMAT_UNDEFINED;
 };
 
 class Pipeline {
  public:
   // A compute pipeline.
   Pipeline(const Context& context, Spirv compute, std::vector<VkDescriptorType> bindings, uint32_t push_bytes);
-  // A graphics pipeline drawing triangle lists into a render pass without
-  // attachments: all output goes through storage writes. Viewport and scissor
-  // are dynamic.
+  // A graphics pipeline drawing triangle lists (no vertex buffers: shaders
+  // pull vertices from storage buffers, no culling) into `targets`. Viewport
+  // and scissor are dynamic.
   Pipeline(const Context& context, Spirv vertex, Spirv fragment, std::vector<VkDescriptorType> bindings,
-           uint32_t push_bytes);
+           uint32_t push_bytes, const RenderTargets& targets = {});
   ~Pipeline();
   Pipeline(const Pipeline&) = delete;
   Pipeline& operator=(const Pipeline&) = delete;
@@ -65,13 +73,15 @@ class Pipeline {
   VkPipeline pipeline_ = VK_NULL_HANDLE;
 };
 
-// A framebuffer with no attachments, for Pipeline's graphics form.
-class EmptyFramebuffer {
+// A framebuffer for Pipeline's graphics form: the views of its targets, in
+// order (colours, then depth), or none.
+class Framebuffer {
  public:
-  EmptyFramebuffer(const Context& context, VkRenderPass pass, uint32_t width, uint32_t height);
-  ~EmptyFramebuffer();
-  EmptyFramebuffer(const EmptyFramebuffer&) = delete;
-  EmptyFramebuffer& operator=(const EmptyFramebuffer&) = delete;
+  Framebuffer(const Context& context, VkRenderPass pass, uint32_t width, uint32_t height,
+              const std::vector<VkImageView>& views = {});
+  ~Framebuffer();
+  Framebuffer(const Framebuffer&) = delete;
+  Framebuffer& operator=(const Framebuffer&) = delete;
   VkFramebuffer handle() const { return framebuffer_; }
 
  private:

@@ -70,10 +70,21 @@ void Buffer::release() {
   mapped_ = nullptr;
 }
 
-Image3D::Image3D(const Context& context, glm::ivec3 dims, VkFormat format, VkImageUsageFlags usage)
-    : device_(context.device()), dims_(dims), format_(format) {
+namespace {
+bool is_depth(VkFormat format) {
+  return format == VK_FORMAT_D32_SFLOAT || format == VK_FORMAT_D16_UNORM || format == VK_FORMAT_D24_UNORM_S8_UINT ||
+         format == VK_FORMAT_D32_SFLOAT_S8_UINT;
+}
+}  // namespace
+
+Image Image::plane(const Context& context, int width, int height, VkFormat format, VkImageUsageFlags usage) {
+  return Image(context, glm::ivec3(width, height, 1), format, usage);
+}
+
+Image::Image(const Context& context, glm::ivec3 dims, VkFormat format, VkImageUsageFlags usage)
+    : device_(context.device()), dims_(dims), format_(format), volume_(dims.z > 1) {
   VkImageCreateInfo info{VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO};
-  info.imageType = VK_IMAGE_TYPE_3D;
+  info.imageType = volume_ ? VK_IMAGE_TYPE_3D : VK_IMAGE_TYPE_2D;
   info.format = format;
   info.extent = {uint32_t(dims.x), uint32_t(dims.y), uint32_t(dims.z)};
   info.mipLevels = 1;
@@ -90,9 +101,10 @@ Image3D::Image3D(const Context& context, glm::ivec3 dims, VkFormat format, VkIma
     VK_CHECK(vkBindImageMemory(device_, image_, memory_, 0));
     VkImageViewCreateInfo view{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
     view.image = image_;
-    view.viewType = VK_IMAGE_VIEW_TYPE_3D;
+    view.viewType = volume_ ? VK_IMAGE_VIEW_TYPE_3D : VK_IMAGE_VIEW_TYPE_2D;
     view.format = format;
-    view.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+    view.subresourceRange = {VkImageAspectFlags(is_depth(format) ? VK_IMAGE_ASPECT_DEPTH_BIT : VK_IMAGE_ASPECT_COLOR_BIT),
+                             0, 1, 0, 1};
     VK_CHECK(vkCreateImageView(device_, &view, nullptr, &view_));
   } catch (...) {
     release();
@@ -100,11 +112,11 @@ Image3D::Image3D(const Context& context, glm::ivec3 dims, VkFormat format, VkIma
   }
 }
 
-Image3D::~Image3D() { release(); }
+Image::~Image() { release(); }
 
-Image3D::Image3D(Image3D&& other) noexcept { *this = std::move(other); }
+Image::Image(Image&& other) noexcept { *this = std::move(other); }
 
-Image3D& Image3D::operator=(Image3D&& other) noexcept {
+Image& Image::operator=(Image&& other) noexcept {
   if (this != &other) {
     release();
     device_ = std::exchange(other.device_, VK_NULL_HANDLE);
@@ -113,11 +125,12 @@ Image3D& Image3D::operator=(Image3D&& other) noexcept {
     memory_ = std::exchange(other.memory_, VK_NULL_HANDLE);
     dims_ = std::exchange(other.dims_, glm::ivec3(0));
     format_ = std::exchange(other.format_, VK_FORMAT_UNDEFINED);
+    volume_ = other.volume_;
   }
   return *this;
 }
 
-void Image3D::release() {
+void Image::release() {
   if (view_) vkDestroyImageView(device_, view_, nullptr);
   if (image_) vkDestroyImage(device_, image_, nullptr);
   if (memory_) vkFreeMemory(device_, memory_, nullptr);
@@ -161,7 +174,7 @@ void memory_barrier(VkCommandBuffer cmd, VkAccessFlags src_access, VkAccessFlags
   vkCmdPipelineBarrier(cmd, src_stage, dst_stage, 0, 1, &barrier, 0, nullptr, 0, nullptr);
 }
 
-Buffer download_image(const Context& context, const Image3D& image, VkDeviceSize bytes_per_texel) {
+Buffer download_image(const Context& context, const Image& image, VkDeviceSize bytes_per_texel) {
   Buffer readback(context, image.texel_count() * bytes_per_texel, VK_BUFFER_USAGE_TRANSFER_DST_BIT,
                   Buffer::Access::HostVisible);
   context.submit_and_wait([&](VkCommandBuffer cmd) {

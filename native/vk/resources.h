@@ -35,16 +35,18 @@ class Buffer {
   void* mapped_ = nullptr;
 };
 
-// A 3D single-channel storage image (seed indices or distances).
-class Image3D {
+// A device image: a volume (dims.z > 1, e.g. seeds or distances) or a plane
+// (dims.z == 1, e.g. G-buffer targets). Depth formats get a depth view.
+class Image {
  public:
-  Image3D() = default;
-  Image3D(const Context& context, glm::ivec3 dims, VkFormat format, VkImageUsageFlags usage);
-  ~Image3D();
-  Image3D(Image3D&& other) noexcept;
-  Image3D& operator=(Image3D&& other) noexcept;
-  Image3D(const Image3D&) = delete;
-  Image3D& operator=(const Image3D&) = delete;
+  Image() = default;
+  Image(const Context& context, glm::ivec3 dims, VkFormat format, VkImageUsageFlags usage);
+  static Image plane(const Context& context, int width, int height, VkFormat format, VkImageUsageFlags usage);
+  ~Image();
+  Image(Image&& other) noexcept;
+  Image& operator=(Image&& other) noexcept;
+  Image(const Image&) = delete;
+  Image& operator=(const Image&) = delete;
 
   VkImage handle() const { return image_; }
   VkImageView view() const { return view_; }
@@ -60,6 +62,7 @@ class Image3D {
   VkDeviceMemory memory_ = VK_NULL_HANDLE;
   glm::ivec3 dims_{0};
   VkFormat format_ = VK_FORMAT_UNDEFINED;
+  bool volume_ = true;
 };
 
 // Uploads host data into a new device-local buffer through a staging copy.
@@ -72,7 +75,7 @@ void image_barrier(VkCommandBuffer cmd, VkImage image, VkImageLayout from, VkIma
 void memory_barrier(VkCommandBuffer cmd, VkAccessFlags src_access, VkAccessFlags dst_access,
                     VkPipelineStageFlags src_stage, VkPipelineStageFlags dst_stage);
 
-// Copies a whole 3D image (in GENERAL layout) into a host-visible buffer and returns it.
-Buffer download_image(const Context& context, const Image3D& image, VkDeviceSize bytes_per_texel);
+// Copies a whole colour image (in GENERAL layout) into a host-visible buffer and returns it.
+Buffer download_image(const Context& context, const Image& image, VkDeviceSize bytes_per_texel);
 
 }  // namespace rtsdf::vk
