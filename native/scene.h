@@ -18,6 +18,7 @@ struct Mesh {
 struct Instance {
   uint32_t mesh = 0;
   glm::mat4 object_to_world{1.0f};
+  glm::vec3 base_color{0.8f};  // linear RGB of the instance's material
 };
 
 struct Bounds {

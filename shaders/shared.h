@@ -79,8 +79,49 @@ struct FinePush {
 
 #define RTSDF_TRACE_GROUP 64
 
+// Lights, in the units of Cycles' direct light (see native/lights.cpp).
+const uint kLightSun = 0u;
+const uint kLightPoint = 1u;
+const uint kLightSpot = 2u;
+const uint kLightArea = 3u;
+
+struct GpuLight {
+  vec4 position;   // xyz = world position (not for suns), w = type
+  vec4 direction;  // xyz = direction the light shines along, w = tan(angular radius) for suns, else radius (world)
+  vec4 radiance;   // rgb = value of a white diffuse surface facing the light at distance 1 (sun: any distance)
+  vec4 spot;       // x = cos(half cone angle), y = blend width in cosine, z = 1 for a one-sided emitter (area)
+};
+
+// Per-frame camera data (a storage buffer, so push constants stay small).
+struct FrameData {
+  mat4 world_to_clip;   // jittered by a sub-pixel offset per accumulation frame
+  vec4 camera_position; // xyz; w = 1 for orthographic cameras
+  vec4 camera_forward;  // xyz = view direction (for the Depth pass)
+  vec4 ambient;         // rgb = world colour (uniform environment light)
+};
+
+struct GBufferPush {
+  mat4 object_to_world;
+  vec4 base_color;
+  uint first_index;
+  uint base_vertex;
+  uint pad0;
+  uint pad1;
+};
+
+struct ShadePush {
+  ivec4 image;      // x, y = size in pixels, z = light count, w = accumulation frame
+  vec4 fine_grid;   // xyz = origin, w = voxel size (world)
+  ivec4 fine_dims;  // w = shadow_max_steps
+  vec4 march;       // x = shadow_epsilon, y = max_step, z = start offset (all world), w = weight of this frame
+};
+
 #ifdef __cplusplus
 static_assert(sizeof(BvhNode) == 48, "BvhNode layout");
+static_assert(sizeof(GpuLight) == 64, "GpuLight layout");
+static_assert(sizeof(FrameData) == 112, "FrameData layout");
+static_assert(sizeof(GBufferPush) == 96, "GBufferPush layout");
+static_assert(sizeof(ShadePush) == 64, "ShadePush layout");
 static_assert(sizeof(RayInstance) == 80, "RayInstance layout");
 static_assert(sizeof(FinePush) == 112, "FinePush layout");
 static_assert(sizeof(VoxelizePush) == 96, "VoxelizePush layout");

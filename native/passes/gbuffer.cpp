@@ -1,0 +1,67 @@
+#include "passes/gbuffer.h"
+
+#include "shaders/shared.h"
+#include "spirv/spirv_gbuffer_frag.h"
+#include "spirv/spirv_gbuffer_vert.h"
+#include "vk/context.h"
+
+namespace rtsdf {
+
+namespace {
+constexpr VkFormat kColor = VK_FORMAT_R32G32B32A32_SFLOAT;
+constexpr VkFormat kDepth = VK_FORMAT_D32_SFLOAT;
+}  // namespace
+
+GBufferPass::GBufferPass(const vk::Context& context)
+    : context_(context),
+      pipeline_(context, RTSDF_SPIRV(spirv_gbuffer_vert), RTSDF_SPIRV(spirv_gbuffer_frag),
+                {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
+                sizeof(gpu::GBufferPush), vk::RenderTargets{{kColor, kColor, kColor}, kDepth}) {}
+
+void GBufferPass::resize(int width, int height) {
+  if (width == width_ && height == height_) return;
+  const VkImageUsageFlags usage = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_STORAGE_BIT;
+  framebuffer_.reset();
+  position_ = vk::Image::plane(context_, width, height, kColor, usage);
+  normal_ = vk::Image::plane(context_, width, height, kColor, usage);
+  albedo_ = vk::Image::plane(context_, width, height, kColor, usage);
+  depth_ = vk::Image::plane(context_, width, height, kDepth, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT);
+  framebuffer_ = std::make_unique<vk::Framebuffer>(
+      context_, pipeline_.render_pass(), uint32_t(width), uint32_t(height),
+      std::vector<VkImageView>{position_.view(), normal_.view(), albedo_.view(), depth_.view()});
+  width_ = width;
+  height_ = height;
+}
+
+void GBufferPass::record(VkCommandBuffer cmd, const GpuScene& scene, const vk::Buffer& frame) const {
+  VkClearValue clears[4]{};
+  clears[3].depthStencil = {1.0f, 0};
+  VkRenderPassBeginInfo begin{VK_STRUCTURE_TYPE_RENDER_PASS_BEGIN_INFO};
+  begin.renderPass = pipeline_.render_pass();
+  begin.framebuffer = framebuffer_->handle();
+  begin.renderArea = {{0, 0}, {uint32_t(width_), uint32_t(height_)}};
+  begin.clearValueCount = 4;
+  begin.pClearValues = clears;
+  vkCmdBeginRenderPass(cmd, &begin, VK_SUBPASS_CONTENTS_INLINE);
+  VkViewport viewport{0.0f, 0.0f, float(width_), float(height_), 0.0f, 1.0f};
+  VkRect2D scissor{{0, 0}, {uint32_t(width_), uint32_t(height_)}};
+  vkCmdSetViewport(cmd, 0, 1, &viewport);
+  vkCmdSetScissor(cmd, 0, 1, &scissor);
+  pipeline_.bind(cmd);
+  pipeline_.push_descriptors(cmd, {vk::Resource::storage_buffer(scene.positions()),
+                                   vk::Resource::storage_buffer(scene.indices()), vk::Resource::storage_buffer(frame)});
+  for (const Instance& instance : scene.instances()) {
+    const GpuMeshRange& mesh = scene.meshes()[instance.mesh];
+    if (mesh.triangle_count == 0) continue;
+    gpu::GBufferPush push{};
+    push.object_to_world = instance.object_to_world;
+    push.base_color = glm::vec4(instance.base_color, 1.0f);
+    push.first_index = mesh.first_index;
+    push.base_vertex = mesh.base_vertex;
+    pipeline_.push_constants(cmd, push);
+    vkCmdDraw(cmd, 3 * mesh.triangle_count, 1, 0, 0);
+  }
+  vkCmdEndRenderPass(cmd);
+}
+
+}  // namespace rtsdf

@@ -1,0 +1,32 @@
+#pragma once
+// Pass 3a: the raster G-buffer from the camera: world position (w = covered),
+// face normal and base colour per pixel, for the shading pass to read.
+#include <memory>
+
+#include "gpu_scene.h"
+#include "vk/pipeline.h"
+#include "vk/resources.h"
+
+namespace rtsdf {
+
+class GBufferPass {
+ public:
+  explicit GBufferPass(const vk::Context& context);
+  // (Re)allocates the targets for a width x height image.
+  void resize(int width, int height);
+  // `frame` holds one gpu::FrameData.
+  void record(VkCommandBuffer cmd, const GpuScene& scene, const vk::Buffer& frame) const;
+
+  const vk::Image& position() const { return position_; }
+  const vk::Image& normal() const { return normal_; }
+  const vk::Image& albedo() const { return albedo_; }
+
+ private:
+  const vk::Context& context_;
+  vk::Pipeline pipeline_;
+  int width_ = 0, height_ = 0;
+  vk::Image position_, normal_, albedo_, depth_;
+  std::unique_ptr<vk::Framebuffer> framebuffer_;
+};
+
+}  // namespace rtsdf

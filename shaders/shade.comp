@@ -1,0 +1,153 @@
+#version 450
+#extension GL_GOOGLE_include_directive : require
+// Shading: Lambert direct light times SDF visibility, plus the world colour,
+// averaged over accumulation frames (each with its own sub-pixel and
+// shadow-origin jitter). Visibility marches the fine SDF towards the light
+// (trilinear samples, stop below shadow_epsilon, steps capped at max_step)
+// with the cone penumbra, improved by Aaltonen's triangulation between
+// consecutive samples (Claybook, GDC 2018).
+#include "shared.h"
+
+layout(local_size_x = 8, local_size_y = 8) in;
+layout(binding = 0, rgba32f) uniform readonly image2D g_position;
+layout(binding = 1, rgba32f) uniform readonly image2D g_normal;
+layout(binding = 2, rgba32f) uniform readonly image2D g_albedo;
+layout(binding = 3, r32f) uniform readonly image3D fine;
+layout(std430, binding = 4) readonly buffer Lights { GpuLight lights[]; };
+layout(std430, binding = 5) readonly buffer Frame { FrameData frame; };
+layout(binding = 6, rgba32f) uniform image2D accum_color;   // rgb = Combined, a = coverage
+layout(binding = 7, rg32f) uniform image2D accum_passes;    // x = Depth, y = Shadow (visibility)
+layout(push_constant) uniform Push { ShadePush pc; };
+
+// Whether a world position lies inside the fine grid (which holds all geometry).
+bool in_grid(vec3 world) {
+  vec3 q = (world - pc.fine_grid.xyz) / pc.fine_grid.w;
+  return all(greaterThanEqual(q, vec3(0.0))) && all(lessThanEqual(q, vec3(pc.fine_dims.xyz)));
+}
+
+// Trilinear sample of the fine SDF (inside the grid).
+float sdf(vec3 world) {
+  vec3 q = (world - pc.fine_grid.xyz) / pc.fine_grid.w - 0.5;
+  ivec3 hi = pc.fine_dims.xyz - 1;
+  vec3 base = floor(q);
+  vec3 f = clamp(q - base, 0.0, 1.0);
+  ivec3 i0 = clamp(ivec3(base), ivec3(0), hi), i1 = clamp(ivec3(base) + 1, ivec3(0), hi);
+  float c00 = mix(imageLoad(fine, ivec3(i0.x, i0.y, i0.z)).x, imageLoad(fine, ivec3(i1.x, i0.y, i0.z)).x, f.x);
+  float c10 = mix(imageLoad(fine, ivec3(i0.x, i1.y, i0.z)).x, imageLoad(fine, ivec3(i1.x, i1.y, i0.z)).x, f.x);
+  float c01 = mix(imageLoad(fine, ivec3(i0.x, i0.y, i1.z)).x, imageLoad(fine, ivec3(i1.x, i0.y, i1.z)).x, f.x);
+  float c11 = mix(imageLoad(fine, ivec3(i0.x, i1.y, i1.z)).x, imageLoad(fine, ivec3(i1.x, i1.y, i1.z)).x, f.x);
+  return mix(mix(c00, c10, f.y), mix(c01, c11, f.y), f.z);
+}
+
+float hash(uvec3 v) {
+  v = v * 1664525u + 1013904223u;
+  v.x += v.y * v.z; v.y += v.z * v.x; v.z += v.x * v.y;
+  v ^= v >> 16u;
+  v.x += v.y * v.z;
+  return float(v.x) * (1.0 / 4294967296.0);
+}
+
+// Share of a disk (the light) left visible by a straight occluder edge at
+// signed distance r (in disk radii; r < 0: the edge covers the centre).
+float disk_visible(float r) {
+  r = clamp(r, -1.0, 1.0);
+  return 0.5 + (r * sqrt(1.0 - r * r) + asin(r)) / 3.14159265;
+}
+
+// Fraction of the light visible from `origin` along `dir` up to `t_max`;
+// tan_radius = tangent of the light's angular radius (0: a hard shadow).
+// Each sample's clearance from the surfaces (thickened by shadow_epsilon, the
+// paper's stop distance) is compared with the light cone's radius there,
+// w = t * tan_radius. Samples may lie inside an occluder (negative clearance),
+// so the penumbra straddles the geometric shadow edge as in Cycles, instead of
+// lying wholly outside it as with min(h / w). Between samples outside
+// surfaces, the clearance is refined by Aaltonen's triangulation.
+float visibility(vec3 origin, vec3 dir, float t_max, float tan_radius, float jitter) {
+  float epsilon = pc.march.x, max_step = pc.march.y;
+  const float t_start = pc.march.z + jitter * max_step;
+  float t = t_start;
+  float ratio = 1.0;  // smallest clearance / cone radius seen
+  float previous_h = -1.0, step = 0.0;
+  for (int i = 0; i < pc.fine_dims.w && t < t_max; ++i) {
+    vec3 p = origin + dir * t;
+    if (!in_grid(p)) break;  // left the grid: nothing more to hit
+    float h = sdf(p);
+    if (tan_radius <= 0.0) {
+      if (h < epsilon) return 0.0;
+    } else {
+      float clearance = h, at = t;
+      if (previous_h > 0.0 && h > 0.0) {
+        // Spheres of radius previous_h and h around the last two samples (step
+        // apart) meet y back along the ray, d off it. Marching straight away
+        // from the receiver they barely touch, back at the start: no estimate there.
+        float y = (h * h - previous_h * previous_h + step * step) / (2.0 * step);
+        if (y > 0.0 && y < h && t - y > t_start) clearance = sqrt(h * h - y * y), at = t - y;
+      }
+      float w = tan_radius * max(at, 1e-6);
+      ratio = min(ratio, (clearance - epsilon) / w);
+      if (ratio <= -1.0) return 0.0;
+    }
+    previous_h = h;
+    // Through the thickened surface in small steps, elsewhere sphere tracing capped at max_step.
+    step = clamp(abs(h), 0.5 * epsilon, max_step);
+    t += step;
+  }
+  return tan_radius <= 0.0 ? 1.0 : disk_visible(ratio);
+}
+
+void main() {
+  ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
+  if (any(greaterThanEqual(pixel, pc.image.xy))) return;
+  vec4 position = imageLoad(g_position, pixel);
+  vec3 color = frame.ambient.rgb;
+  float depth = 1e10, shadow = 1.0;
+  if (position.w > 0.0) {
+    vec3 p = position.xyz;
+    vec3 n = imageLoad(g_normal, pixel).xyz;
+    vec3 to_camera = frame.camera_position.w > 0.5 ? -frame.camera_forward.xyz : frame.camera_position.xyz - p;
+    if (dot(n, to_camera) < 0.0) n = -n;  // shade the side the camera sees
+    vec3 albedo = imageLoad(g_albedo, pixel).rgb;
+    depth = dot(p - frame.camera_position.xyz, frame.camera_forward.xyz);
+    color = albedo * frame.ambient.rgb;
+    float lit = 0.0, unshadowed = 0.0;
+    float jitter = hash(uvec3(pixel, uint(pc.image.w)));
+    // Start a voxel off the surface so the receiver does not shadow itself.
+    vec3 origin = p + n * pc.march.z;
+    for (int l = 0; l < pc.image.z; ++l) {
+      GpuLight light = lights[l];
+      uint type = uint(light.position.w);
+      vec3 dir;
+      vec3 irradiance = light.radiance.rgb;
+      float t_max, tan_radius;
+      if (type == kLightSun) {
+        dir = -light.direction.xyz;
+        t_max = 1e10;
+        tan_radius = light.direction.w;
+      } else {
+        vec3 to_light = light.position.xyz - origin;
+        float distance = length(to_light);
+        dir = to_light / max(distance, 1e-6);
+        irradiance /= max(distance * distance, 1e-8);
+        t_max = max(distance - light.direction.w, 0.0);
+        tan_radius = light.direction.w / max(distance, 1e-6);
+        float cos_axis = dot(-dir, light.direction.xyz);
+        if (type == kLightSpot) irradiance *= smoothstep(light.spot.x, light.spot.x + light.spot.y, cos_axis);
+        if (light.spot.z > 0.5) irradiance *= max(cos_axis, 0.0);
+      }
+      float cos_surface = dot(n, dir);
+      if (cos_surface <= 0.0 || dot(irradiance, irradiance) <= 0.0) continue;
+      float v = visibility(origin, dir, t_max, tan_radius, jitter);
+      vec3 direct = irradiance * cos_surface;
+      color += albedo * direct * v;
+      float weight = dot(direct, vec3(0.2126, 0.7152, 0.0722));
+      lit += weight * v;
+      unshadowed += weight;
+    }
+    shadow = unshadowed > 0.0 ? lit / unshadowed : 1.0;
+  }
+  float w = pc.march.w;  // 1 / (frame + 1): a running mean over accumulation frames
+  vec4 previous_color = pc.image.w == 0 ? vec4(0.0) : imageLoad(accum_color, pixel);
+  vec4 previous_passes = pc.image.w == 0 ? vec4(0.0) : imageLoad(accum_passes, pixel);
+  imageStore(accum_color, pixel, mix(previous_color, vec4(color, position.w > 0.0 ? 1.0 : 0.0), w));
+  imageStore(accum_passes, pixel, vec4(position.w > 0.0 ? depth : 1e10, mix(previous_passes.y, shadow, w), 0.0, 0.0));
+}

@@ -1,0 +1,119 @@
+// The renderer: a sphere over a plane under a sun, seen from above, against
+// the analytic soft shadow (the visible share of the sun's disk).
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <glm/gtc/matrix_transform.hpp>
+
+#include "reference/shapes.h"
+#include "renderer.h"
+#include "vulkan_test.h"
+
+namespace rtsdf {
+namespace {
+
+// Share of a disk of angular radius a (the sun) hidden by a disk of radius r
+// (the sphere) whose centre is d away (small angles: planar disks).
+double hidden_share(double a, double r, double d) {
+  if (d >= a + r) return 0.0;
+  if (d <= std::abs(r - a)) return r >= a ? 1.0 : (r * r) / (a * a);
+  double alpha = std::acos((d * d + a * a - r * r) / (2 * d * a));
+  double beta = std::acos((d * d + r * r - a * a) / (2 * d * r));
+  double lens = a * a * (alpha - std::sin(2 * alpha) / 2) + r * r * (beta - std::sin(2 * beta) / 2);
+  return lens / (M_PI * a * a);
+}
+
+struct Profile {
+  double x10 = 0, x50 = 0, x90 = 0;  // where visibility crosses 0.1, 0.5, 0.9 going outwards
+  double width() const { return x90 - x10; }
+};
+
+// Scans x from `from` to 1.9 (out of the shadow into the light).
+template <typename F>
+Profile profile(F&& visibility, double from, double step) {
+  Profile p;
+  bool f10 = false, f50 = false, f90 = false;
+  for (double x = from; x < 1.9; x += step) {
+    double v = visibility(x);
+    if (!f10 && v >= 0.1) p.x10 = x, f10 = true;
+    if (!f50 && v >= 0.5) p.x50 = x, f50 = true;
+    if (!f90 && v >= 0.9) p.x90 = x, f90 = true;
+  }
+  return p;
+}
+
+class RendererTest : public testing::VulkanTest {};
+
+TEST_F(RendererTest, SpherePenumbraMatchesAnalyticWidth) {
+  const float radius = 0.5f, height = 1.0f;
+  const float sun_angle = 10.0f * float(M_PI) / 180.0f;
+  Scene scene;
+  scene.meshes = {reference::uv_sphere({0, 0, height}, radius, 96), reference::box({-2, -2, -0.05f}, {2, 2, 0})};
+  scene.instances = {{0, glm::mat4(1.0f), glm::vec3(0.8f)}, {1, glm::mat4(1.0f), glm::vec3(0.8f)}};
+  GpuScene gpu_scene(context(), scene);
+
+  Camera camera;  // orthographic, straight down, 4 x 4 world units
+  camera.world_to_view = glm::lookAt(glm::vec3(0, 0, 10), glm::vec3(0, 0, 0), glm::vec3(0, 1, 0));
+  camera.projection = glm::orthoRH_NO(-2.0f, 2.0f, -2.0f, 2.0f, 0.1f, 20.0f);
+  camera.orthographic = true;
+  Light sun;
+  sun.type = LightType::Sun;
+  // 45 degrees from overhead, shining towards +x: the shadow's far edge (near
+  // x = 1.7) is beyond the sphere as the camera above sees it.
+  const double tilt = M_PI / 4;
+  sun.direction = {float(std::sin(tilt)), 0, -float(std::cos(tilt))};
+  sun.energy = 3.0f;
+  sun.sun_angle = sun_angle;
+  RenderSettings settings;
+  settings.samples = 8;
+  const int size = 256;
+  Renderer renderer(context());
+  RenderOutput out = renderer.render(gpu_scene, camera, {sun}, glm::vec3(0.05f), size, size, settings);
+  ASSERT_EQ(out.shadow.size(), size_t(size * size));
+  if (const char* dump = std::getenv("RTSDF_TEST_DUMP")) {  // raw float planes for inspection
+    FILE* f = std::fopen(dump, "wb");
+    std::fwrite(out.shadow.data(), sizeof(float), out.shadow.size(), f);
+    std::fwrite(out.combined.data(), sizeof(float), out.combined.size(), f);
+    std::fclose(f);
+  }
+
+  // Row through y = 0: pixel i covers x = -2 + (i + 0.5) * 4 / size.
+  const int row = size / 2;
+  auto rendered = [&](double x) {
+    int i = std::clamp(int((x + 2.0) / 4.0 * size), 0, size - 1);
+    return double(out.shadow[size_t(row) * size + i]);
+  };
+  auto exact = [&](double x) {  // ground point (x, 0, 0); towards the sun: (-sin, 0, cos)
+    glm::dvec3 to_center(-x, 0.0, height), to_sun(-std::sin(tilt), 0.0, std::cos(tilt));
+    double d = glm::length(to_center);
+    double offset = std::acos(std::clamp(glm::dot(to_center / d, to_sun), -1.0, 1.0));
+    return 1.0 - hidden_share(0.5 * sun_angle, std::asin(radius / d), offset);
+  };
+  Profile r = profile(rendered, 1.0, 4.0 / size), e = profile(exact, 1.0, 0.001);
+  std::printf("penumbra (10%%-90%%): rendered %.3f [%.3f..%.3f], analytic %.3f [%.3f..%.3f]; 50%% at %.3f vs %.3f; "
+              "%d samples in %.0f ms\n", r.width(), r.x10, r.x90, e.width(), e.x10, e.x90, r.x50, e.x50,
+              settings.samples, out.timings.total_ms);
+  EXPECT_LT(rendered(1.0), 0.05) << "umbra at the shadow's centre";
+  EXPECT_GT(rendered(1.9), 0.95) << "lit beyond it";
+  const double voxel = 4.0 / settings.fine_resolution;
+  EXPECT_NEAR(r.x50, e.x50, voxel) << "the shadow's edge (half the sun hidden) in its place";
+  EXPECT_NEAR(r.width(), e.width(), 0.25 * e.width() + voxel) << "penumbra width";
+
+  // Shading: a lit pixel of the plane is albedo * (sun cos / pi + ambient).
+  const float lit = out.combined[4 * (size_t(row) * size + size - 8)];
+  EXPECT_NEAR(lit, 0.8f * (3.0f * float(std::cos(tilt)) / float(M_PI) + 0.05f), 0.02f);
+  EXPECT_NEAR(out.depth[size_t(row) * size + size - 8], 10.0f, 0.01f);
+}
+
+TEST_F(RendererTest, BadSizesAndLightsAreErrors) {
+  GpuScene scene(context(), single_mesh_scene(reference::box({-1, -1, -1}, {1, 1, 1})));
+  Renderer renderer(context());
+  Camera camera;
+  Light bad;
+  bad.energy = std::nanf("");
+  EXPECT_THROW(renderer.render(scene, camera, {}, glm::vec3(0), 0, 10, {}), Error);
+  EXPECT_THROW(renderer.render(scene, camera, {bad}, glm::vec3(0), 8, 8, {}), Error);
+}
+
+}  // namespace
+}  // namespace rtsdf
