@@ -56,15 +56,17 @@ float disk_visible(float r) {
 
 // Fraction of the light visible from `origin` along `dir` up to `t_max`;
 // tan_radius = tangent of the light's angular radius (0: a hard shadow).
-// Each sample's clearance from the surfaces (thickened by shadow_epsilon, the
-// paper's stop distance) is compared with the light cone's radius there,
-// w = t * tan_radius. Samples may lie inside an occluder (negative clearance),
+// Each sample's clearance from the surfaces is compared with the light cone's
+// radius there, w = t * tan_radius (shadow_epsilon, the paper's stop distance,
+// ends hard-shadow marches; thickening soft ones by it made shadows too fat). Samples may lie inside an occluder (negative clearance),
 // so the penumbra straddles the geometric shadow edge as in Cycles, instead of
 // lying wholly outside it as with min(h / w). Between samples outside
 // surfaces, the clearance is refined by Aaltonen's triangulation.
-float visibility(vec3 origin, vec3 dir, float t_max, float tan_radius, float jitter) {
+float visibility(vec3 origin, vec3 dir, float t_min, float t_max, float tan_radius, float jitter) {
   float epsilon = pc.march.x, max_step = pc.march.y;
-  const float t_start = pc.march.z + jitter * max_step;
+  // Jittered by up to one epsilon along the light each frame: with the sample
+  // positions moving, step patterns (banding) average out over accumulation.
+  const float t_start = t_min + jitter * epsilon;
   float t = t_start;
   float ratio = 1.0;  // smallest clearance / cone radius seen
   float previous_h = -1.0, step = 0.0;
@@ -84,7 +86,7 @@ float visibility(vec3 origin, vec3 dir, float t_max, float tan_radius, float jit
         if (y > 0.0 && y < h && t - y > t_start) clearance = sqrt(h * h - y * y), at = t - y;
       }
       float w = tan_radius * max(at, 1e-6);
-      ratio = min(ratio, (clearance - epsilon) / w);
+      ratio = min(ratio, clearance / w);
       if (ratio <= -1.0) return 0.0;
     }
     previous_h = h;
@@ -111,8 +113,11 @@ void main() {
     color = albedo * frame.ambient.rgb;
     float lit = 0.0, unshadowed = 0.0;
     float jitter = hash(uvec3(pixel, uint(pc.image.w)));
-    // Start a voxel off the surface so the receiver does not shadow itself.
-    vec3 origin = p + n * pc.march.z;
+    // The march follows the ray from the shading point itself (an offset along
+    // the normal would move every shadow edge inward by offset * tan(angle));
+    // it starts where that ray is two voxels off the receiver, so the receiver
+    // does not shadow itself. A quarter-voxel nudge keeps it off the surface.
+    vec3 origin = p + n * (0.25 * pc.fine_grid.w);
     for (int l = 0; l < pc.image.z; ++l) {
       GpuLight light = lights[l];
       uint type = uint(light.position.w);
@@ -136,7 +141,8 @@ void main() {
       }
       float cos_surface = dot(n, dir);
       if (cos_surface <= 0.0 || dot(irradiance, irradiance) <= 0.0) continue;
-      float v = visibility(origin, dir, t_max, tan_radius, jitter);
+      float t_min = min(pc.march.z / cos_surface, 4.0 * pc.march.z);
+      float v = visibility(origin, dir, t_min, t_max, tan_radius, jitter);
       vec3 direct = irradiance * cos_surface;
       color += albedo * direct * v;
       float weight = dot(direct, vec3(0.2126, 0.7152, 0.0722));

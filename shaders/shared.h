@@ -113,7 +113,7 @@ struct ShadePush {
   ivec4 image;      // x, y = size in pixels, z = light count, w = accumulation frame
   vec4 fine_grid;   // xyz = origin, w = voxel size (world)
   ivec4 fine_dims;  // w = shadow_max_steps
-  vec4 march;       // x = shadow_epsilon, y = max_step, z = start offset (all world), w = weight of this frame
+  vec4 march;       // x = shadow_epsilon, y = max_step, z = receiver clearance at the start (all world), w = weight of this frame
 };
 
 #ifdef __cplusplus

@@ -5,14 +5,14 @@ bl_info = {
     "author": "RTSDF developers",
     "version": (0, 1, 0),
     "blender": (3, 4, 0),
-    "location": "Preferences > Add-ons > RTSDF",
+    "location": "Render Properties > Render Engine > RTSDF",
     "description": "Signed distance fields generated in real time on Vulkan, for soft shadows",
     "category": "Render",
 }
 
 import bpy
 
-from . import native
+from . import engine, native, properties, ui
 
 
 class RTSDF_AddonPreferences(bpy.types.AddonPreferences):
@@ -32,14 +32,16 @@ class RTSDF_AddonPreferences(bpy.types.AddonPreferences):
             layout.label(text=f"Vulkan device: {device['name']} ({device['type']}, Vulkan {device['api_version']})")
 
 
-classes = (RTSDF_AddonPreferences,)
+modules = (properties, engine, ui)
 
 
 def register():
-    for cls in classes:
-        bpy.utils.register_class(cls)
+    bpy.utils.register_class(RTSDF_AddonPreferences)
+    for module in modules:
+        module.register()
 
 
 def unregister():
-    for cls in reversed(classes):
-        bpy.utils.unregister_class(cls)
+    for module in reversed(modules):
+        module.unregister()
+    bpy.utils.unregister_class(RTSDF_AddonPreferences)

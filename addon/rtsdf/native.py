@@ -4,6 +4,7 @@ messages for the UI, so that a missing driver never breaks Blender."""
 _module = None
 _error = None
 _device = None
+_session = None
 
 
 def load():
@@ -30,3 +31,18 @@ def device():
         except RuntimeError as e:
             return None, str(e)
     return _device, None
+
+
+def session():
+    """Returns (Session, None) or (None, reason). One per Blender process: the
+    Vulkan device and the renderer's resources live on between renders."""
+    global _session
+    module, error = load()
+    if module is None:
+        return None, error
+    if _session is None:
+        try:
+            _session = module.Session()
+        except RuntimeError as e:
+            return None, str(e)
+    return _session, None

@@ -3,7 +3,10 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <memory>
+
 #include "coarse_sdf.h"
+#include "renderer.h"
 #include "version.h"
 #include "vk/context.h"
 
@@ -64,6 +67,121 @@ py::dict coarse_sdf(py::array_t<float, py::array::c_style | py::array::forcecast
   return result;
 }
 
+template <typename T>
+T get(const py::dict& d, const char* key, T fallback) {
+  return d.contains(key) ? d[key].cast<T>() : fallback;
+}
+
+glm::vec3 vec3_of(const py::handle& h) {
+  auto v = h.cast<std::vector<float>>();
+  if (v.size() != 3) throw rtsdf::Error("expected 3 numbers");
+  return {v[0], v[1], v[2]};
+}
+
+// A 4x4 matrix given row by row (as Blender's Matrix and numpy print it).
+glm::mat4 mat4_of(const py::handle& h) {
+  auto a = py::array_t<float, py::array::c_style | py::array::forcecast>::ensure(h);
+  if (!a || a.ndim() != 2 || a.shape(0) != 4 || a.shape(1) != 4) throw rtsdf::Error("expected a 4x4 matrix");
+  glm::mat4 m;
+  for (int r = 0; r < 4; ++r)
+    for (int c = 0; c < 4; ++c) m[c][r] = a.at(r, c);
+  return m;
+}
+
+rtsdf::LightType light_type(const std::string& name) {
+  if (name == "SUN") return rtsdf::LightType::Sun;
+  if (name == "POINT") return rtsdf::LightType::Point;
+  if (name == "SPOT") return rtsdf::LightType::Spot;
+  if (name == "AREA") return rtsdf::LightType::Area;
+  throw rtsdf::Error("unknown light type '" + name + "'");
+}
+
+// One Vulkan context and renderer, kept between renders (Blender's persistent data).
+class Session {
+ public:
+  Session() : context_(std::make_unique<rtsdf::vk::Context>()), renderer_(*context_) {}
+
+  std::string device() const { return context_->info().name; }
+
+  py::dict render(const py::dict& scene_desc, const py::dict& settings_desc) {
+    rtsdf::Scene scene;
+    for (const py::handle& mesh_desc : scene_desc["meshes"].cast<py::list>()) {
+      py::dict d = mesh_desc.cast<py::dict>();
+      rtsdf::Mesh mesh = mesh_from_arrays(
+          d["positions"].cast<py::array_t<float, py::array::c_style | py::array::forcecast>>(),
+          d["indices"].cast<py::array_t<uint32_t, py::array::c_style | py::array::forcecast>>());
+      mesh.name = get<std::string>(d, "name", "mesh");
+      scene.meshes.push_back(std::move(mesh));
+    }
+    for (const py::handle& instance_desc : scene_desc["instances"].cast<py::list>()) {
+      py::dict d = instance_desc.cast<py::dict>();
+      rtsdf::Instance instance;
+      instance.mesh = d["mesh"].cast<uint32_t>();
+      instance.object_to_world = mat4_of(d["matrix"]);
+      if (d.contains("color")) instance.base_color = vec3_of(d["color"]);
+      scene.instances.push_back(instance);
+    }
+    std::vector<rtsdf::Light> lights;
+    for (const py::handle& light_desc : scene_desc["lights"].cast<py::list>()) {
+      py::dict d = light_desc.cast<py::dict>();
+      rtsdf::Light light;
+      light.type = light_type(d["type"].cast<std::string>());
+      light.position = vec3_of(d["position"]);
+      light.direction = vec3_of(d["direction"]);
+      light.color = vec3_of(d["color"]);
+      light.energy = d["energy"].cast<float>();
+      light.sun_angle = get<float>(d, "angle", 0.0f);
+      light.radius = get<float>(d, "radius", 0.0f);
+      light.spot_size = get<float>(d, "spot_size", 0.0f);
+      light.spot_blend = get<float>(d, "spot_blend", 0.0f);
+      lights.push_back(light);
+    }
+    py::dict camera_desc = scene_desc["camera"].cast<py::dict>();
+    rtsdf::Camera camera;
+    camera.world_to_view = mat4_of(camera_desc["world_to_view"]);
+    camera.projection = mat4_of(camera_desc["projection"]);
+    camera.orthographic = get<bool>(camera_desc, "orthographic", false);
+    const int width = scene_desc["width"].cast<int>(), height = scene_desc["height"].cast<int>();
+    const glm::vec3 ambient = vec3_of(scene_desc["ambient"]);
+
+    rtsdf::RenderSettings settings;
+    settings.coarse_resolution = get<int>(settings_desc, "coarse_resolution", settings.coarse_resolution);
+    settings.fine_resolution = get<int>(settings_desc, "fine_resolution", settings.fine_resolution);
+    settings.beta = get<float>(settings_desc, "beta", settings.beta);
+    settings.fine.trace_band = get<float>(settings_desc, "trace_band", settings.fine.trace_band);
+    settings.fine.decay = get<float>(settings_desc, "decay", settings.fine.decay);
+    settings.fine.rays_per_texel = get<int>(settings_desc, "rays_per_texel", settings.fine.rays_per_texel);
+    settings.shadow_epsilon = get<float>(settings_desc, "shadow_epsilon", settings.shadow_epsilon);
+    settings.shadow_max_steps = get<int>(settings_desc, "shadow_max_steps", settings.shadow_max_steps);
+    settings.max_step = get<float>(settings_desc, "max_step", settings.max_step);
+    settings.samples = get<int>(settings_desc, "samples", settings.samples);
+
+    rtsdf::RenderOutput out;
+    {
+      py::gil_scoped_release release;
+      rtsdf::GpuScene gpu_scene(*context_, scene);
+      out = renderer_.render(gpu_scene, camera, lights, ambient, width, height, settings);
+    }
+    py::dict result;
+    py::array_t<float> combined({height, width, 4});
+    std::copy(out.combined.begin(), out.combined.end(), combined.mutable_data());
+    py::array_t<float> depth({height, width}), shadow({height, width});
+    std::copy(out.depth.begin(), out.depth.end(), depth.mutable_data());
+    std::copy(out.shadow.begin(), out.shadow.end(), shadow.mutable_data());
+    result["combined"] = combined;  // rows top to bottom
+    result["depth"] = depth;
+    result["shadow"] = shadow;
+    result["ms"] = py::dict(py::arg("sdf") = out.timings.coarse_ms, py::arg("fine") = out.timings.fine_ms,
+                            py::arg("shade") = out.timings.shade_ms, py::arg("total") = out.timings.total_ms);
+    result["validation_messages"] = context_->validation_message_count();
+    return result;
+  }
+
+ private:
+  std::unique_ptr<rtsdf::vk::Context> context_;
+  rtsdf::Renderer renderer_;
+};
+
 }  // namespace
 
 PYBIND11_MODULE(rtsdf_native, m) {
@@ -79,6 +197,15 @@ PYBIND11_MODULE(rtsdf_native, m) {
     rtsdf::vk::Context context;
     return describe(context.info());
   }, "The device RTSDF would use (honours RTSDF_DEVICE).");
+  py::class_<Session>(m, "Session", "A Vulkan device and renderer kept between renders.")
+      .def(py::init<>())
+      .def_property_readonly("device", &Session::device)
+      .def("render", &Session::render, py::arg("scene"), py::arg("settings") = py::dict(),
+           "Renders a scene given as plain data: meshes [{positions (N,3), indices (M,3)}], instances "
+           "[{mesh, matrix 4x4 row-major, color}], lights [{type SUN|POINT|SPOT|AREA, position, direction, color, "
+           "energy, angle, radius, spot_size, spot_blend}], camera {world_to_view, projection (OpenGL), "
+           "orthographic}, width, height, ambient. Returns combined (H,W,4), depth, shadow (rows top to bottom) "
+           "and ms.");
   m.def("coarse_sdf", &coarse_sdf, py::arg("positions"), py::arg("indices"), py::arg("coarse_resolution") = 64,
         py::arg("beta") = 0.5f,
         "Coarse SDF of one triangle mesh. Returns a dict with 'distance' [z, y, x] in world units, 'origin', "

@@ -1,0 +1,55 @@
+"""RTSDF settings, stored on the scene as scene.rtsdf (names as in the native core)."""
+
+import bpy
+from bpy.props import FloatProperty, IntProperty
+
+
+class RTSDFSettings(bpy.types.PropertyGroup):
+    coarse_resolution: IntProperty(
+        name="Coarse Resolution", default=64, min=8, max=512,
+        description="Voxels on the longest axis of the coarse (jump-flooded) SDF")
+    fine_resolution: IntProperty(
+        name="Fine Resolution", default=128, min=16, max=1024,
+        description="Voxels on the longest axis of the fine (ray-traced) SDF; at least the coarse resolution")
+    beta: FloatProperty(
+        name="Beta", default=0.5, min=0.0, max=4.0,
+        description="Bias subtracted from the coarse distance, in coarse voxels: thickens surfaces")
+    trace_band: FloatProperty(
+        name="Trace Band", default=3.0, min=0.5, max=16.0,
+        description="d: fine texels within this coarse distance (coarse voxels) are ray traced")
+    decay: FloatProperty(
+        name="Decay", default=0.9, min=0.0, max=0.99,
+        description="Alpha: weight of the previous frame's fine SDF (higher converges further, forgets slower)")
+    rays_per_texel: IntProperty(
+        name="Rays per Texel", default=8, min=1, max=64,
+        description="Rays cast from each traced fine texel per frame")
+    shadow_epsilon: FloatProperty(
+        name="Shadow Epsilon", default=1.0, min=0.25, max=4.0,
+        description="Surface thickness the shadow march treats as solid, in fine voxels")
+    shadow_max_steps: IntProperty(
+        name="Shadow Steps", default=96, min=8, max=1024,
+        description="Step limit of the shadow march")
+    max_step: FloatProperty(
+        name="Max Step", default=4.0, min=0.5, max=32.0,
+        description="Longest step of the shadow march, in fine voxels (shorter removes banding, costs more)")
+    samples: IntProperty(
+        name="Samples", default=16, min=1, max=1024,
+        description="Accumulation frames for a final render (sub-pixel and shadow jitter each)")
+
+    def as_dict(self):
+        return {name: getattr(self, name) for name in self.__annotations__}
+
+
+classes = (RTSDFSettings,)
+
+
+def register():
+    for cls in classes:
+        bpy.utils.register_class(cls)
+    bpy.types.Scene.rtsdf = bpy.props.PointerProperty(type=RTSDFSettings)
+
+
+def unregister():
+    del bpy.types.Scene.rtsdf
+    for cls in reversed(classes):
+        bpy.utils.unregister_class(cls)

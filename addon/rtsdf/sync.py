@@ -1,0 +1,141 @@
+"""Reads what RTSDF renders from Blender's evaluated depsgraph into plain data
+for the native module: meshes (numpy, through foreach_get), instances with
+transforms and base colours, lights, the camera and the world colour."""
+
+import math
+
+import numpy as np
+from mathutils import Vector
+
+GEOMETRY_TYPES = {"MESH", "CURVE", "SURFACE", "FONT", "META"}
+
+
+class SceneError(Exception):
+    """A scene RTSDF cannot render; the message is for the user."""
+
+
+def mesh_arrays(obj):
+    """Triangles of an evaluated object (modifiers applied), or None if it has none."""
+    mesh = obj.to_mesh()
+    try:
+        if mesh is None:
+            return None
+        mesh.calc_loop_triangles()
+        triangles = len(mesh.loop_triangles)
+        if triangles == 0:
+            return None
+        positions = np.empty(len(mesh.vertices) * 3, dtype=np.float32)
+        mesh.vertices.foreach_get("co", positions)
+        indices = np.empty(triangles * 3, dtype=np.int32)
+        mesh.loop_triangles.foreach_get("vertices", indices)
+        positions = positions.reshape(-1, 3)
+        if not np.isfinite(positions).all():
+            raise SceneError(f"Object '{obj.name}' has NaN or infinite vertex coordinates")
+        return {"name": obj.name, "positions": positions, "indices": indices.reshape(-1, 3).astype(np.uint32)}
+    finally:
+        obj.to_mesh_clear()
+
+
+def base_color(obj):
+    """Linear base colour of the object's first material (Principled BSDF or viewport colour)."""
+    material = obj.active_material
+    if material is None:
+        return (0.8, 0.8, 0.8)
+    if material.use_nodes and material.node_tree:
+        for node in material.node_tree.nodes:
+            if node.type == "BSDF_PRINCIPLED":
+                return tuple(node.inputs["Base Color"].default_value[:3])
+            if node.type == "BSDF_DIFFUSE":
+                return tuple(node.inputs["Color"].default_value[:3])
+    return tuple(material.diffuse_color[:3])
+
+
+def light_data(light, matrix):
+    direction = (matrix.to_3x3() @ Vector((0.0, 0.0, -1.0))).normalized()
+    data = {
+        "type": light.type,
+        "position": tuple(matrix.translation),
+        "direction": tuple(direction),
+        "color": tuple(light.color),
+        "energy": float(light.energy),
+    }
+    if light.type == "SUN":
+        data["angle"] = float(light.angle)
+    elif light.type in {"POINT", "SPOT"}:
+        data["radius"] = float(light.shadow_soft_size)
+        if light.type == "SPOT":
+            data["spot_size"] = float(light.spot_size)
+            data["spot_blend"] = float(light.spot_blend)
+    elif light.type == "AREA":
+        size_y = light.size_y if light.shape in {"RECTANGLE", "ELLIPSE"} else light.size
+        data["radius"] = 0.5 * math.sqrt(light.size * size_y)
+    return data
+
+
+def world_color(scene):
+    """The world's uniform colour times strength (what lights a diffuse surface from everywhere)."""
+    world = scene.world
+    if world is None:
+        return (0.0, 0.0, 0.0)
+    if world.use_nodes and world.node_tree:
+        for node in world.node_tree.nodes:
+            if node.type == "BACKGROUND" and any(link.is_valid for link in node.outputs[0].links):
+                strength = node.inputs["Strength"].default_value
+                return tuple(c * strength for c in node.inputs["Color"].default_value[:3])
+    return tuple(world.color)
+
+
+def render_size(scene):
+    render = scene.render
+    scale = render.resolution_percentage / 100.0
+    return max(1, int(render.resolution_x * scale)), max(1, int(render.resolution_y * scale))
+
+
+def camera_data(depsgraph, camera, width, height):
+    render = depsgraph.scene.render
+    projection = camera.calc_matrix_camera(depsgraph, x=width, y=height,
+                                           scale_x=render.pixel_aspect_x, scale_y=render.pixel_aspect_y)
+    return {
+        "world_to_view": np.array(camera.matrix_world.inverted(), dtype=np.float32),
+        "projection": np.array(projection, dtype=np.float32),
+        "orthographic": camera.data.type == "ORTHO",
+    }
+
+
+def extract(depsgraph):
+    """The scene as the native renderer takes it; raises SceneError for what it cannot render."""
+    scene = depsgraph.scene
+    if scene.camera is None:
+        raise SceneError("The scene has no camera")
+    width, height = render_size(scene)
+    meshes, instances, lights, mesh_index = [], [], [], {}
+    for instance in depsgraph.object_instances:
+        obj = instance.object
+        if obj.type == "LIGHT":
+            lights.append(light_data(obj.data, instance.matrix_world))
+            continue
+        if obj.type not in GEOMETRY_TYPES:
+            continue
+        # Instances of one object share its triangles; only their transforms differ.
+        key = obj.original.name if instance.is_instance else obj.name
+        if key not in mesh_index:
+            arrays = mesh_arrays(obj)
+            mesh_index[key] = None if arrays is None else len(meshes)
+            if arrays is not None:
+                meshes.append(arrays)
+        if mesh_index[key] is None:
+            continue
+        instances.append({"mesh": mesh_index[key], "matrix": np.array(instance.matrix_world, dtype=np.float32),
+                          "color": base_color(obj)})
+    if not instances:
+        raise SceneError("Nothing to render: the scene has no objects with faces")
+    camera = scene.camera.evaluated_get(depsgraph)
+    return {
+        "meshes": meshes,
+        "instances": instances,
+        "lights": lights,
+        "camera": camera_data(depsgraph, camera, width, height),
+        "width": width,
+        "height": height,
+        "ambient": world_color(scene),
+    }
