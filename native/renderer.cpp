@@ -39,7 +39,8 @@ Renderer::Renderer(const vk::Context& context)
     : context_(context), coarse_(context), fine_(context), gbuffer_(context), shade_(context) {}
 
 RenderOutput Renderer::render(GpuScene& scene, const Camera& camera, const std::vector<Light>& lights,
-                              glm::vec3 ambient, int width, int height, const RenderSettings& settings) {
+                              glm::vec3 ambient, int width, int height, const RenderSettings& settings,
+                              const Progress& progress) {
   if (width < 1 || height < 1 || width > 16384 || height > 16384)
     throw Error("image size " + std::to_string(width) + "x" + std::to_string(height) + " is out of range (1 to 16384)");
   if (settings.samples < 1 || settings.samples > 4096) throw Error("samples must be 1 to 4096");
@@ -103,6 +104,8 @@ RenderOutput Renderer::render(GpuScene& scene, const Camera& camera, const std::
       shade_.record(cmd, gbuffer_, fine_.distance(), light_buffer, frame, accum_color, accum_passes, push);
     });
     out.timings.shade_ms += ms_since(step);
+    out.samples_done = sample + 1;
+    if (progress && !progress(sample + 1, settings.samples)) break;
   }
 
   out.combined = read_plane<float>(context_, accum_color, 4);

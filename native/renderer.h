@@ -1,6 +1,7 @@
 #pragma once
 // The whole RTSDF frame: coarse SDF -> fine SDF -> G-buffer -> shading with
 // SDF soft shadows, averaged over accumulation frames.
+#include <functional>
 #include <vector>
 
 #include "coarse_sdf.h"
@@ -48,15 +49,20 @@ struct RenderOutput {
   std::vector<float> depth;     // distance along the view axis; 1e10 where nothing is hit
   std::vector<float> shadow;    // direct light with shadows / without (1 where unlit or empty)
   RenderTimings timings;
+  int samples_done = 0;  // fewer than asked when stopped through Progress
 };
 
 class Renderer {
  public:
   explicit Renderer(const vk::Context& context);
+  // Called after each accumulation frame with (frames done, frames in all);
+  // returning false stops the render there (the output holds what was done).
+  using Progress = std::function<bool(int, int)>;
+
   // Renders `scene` (its SDFs are rebuilt: call again after any change).
   // Throws rtsdf::Error for bad sizes or settings.
   RenderOutput render(GpuScene& scene, const Camera& camera, const std::vector<Light>& lights, glm::vec3 ambient,
-                      int width, int height, const RenderSettings& settings);
+                      int width, int height, const RenderSettings& settings, const Progress& progress = {});
 
  private:
   const vk::Context& context_;

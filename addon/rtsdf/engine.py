@@ -30,14 +30,20 @@ class RTSDFRenderEngine(bpy.types.RenderEngine):
             self.update_stats("RTSDF", "Reading the scene")
             data = sync.extract(depsgraph)
             self.update_stats("RTSDF", f"Rendering on {session.device}")
-            out = session.render(data, scene.rtsdf.as_dict())
+
+            def progress(done, total):
+                self.update_progress(done / total)
+                self.update_stats("RTSDF", f"Sample {done}/{total} on {session.device}")
+                return not self.test_break()
+
+            out = session.render(data, scene.rtsdf.as_dict(), progress)
         except sync.SceneError as e:
             self.report({"ERROR"}, f"RTSDF: {e}")
             return
         except RuntimeError as e:  # the native core's errors (bad input, device, memory)
             self.report({"ERROR"}, f"RTSDF: {e}")
             return
-        if self.test_break():
+        if out["samples_done"] == 0:
             return
 
         self.add_pass("Shadow", 1, "X")

@@ -103,7 +103,7 @@ class Session {
 
   std::string device() const { return context_->info().name; }
 
-  py::dict render(const py::dict& scene_desc, const py::dict& settings_desc) {
+  py::dict render(const py::dict& scene_desc, const py::dict& settings_desc, const py::object& progress) {
     rtsdf::Scene scene;
     for (const py::handle& mesh_desc : scene_desc["meshes"].cast<py::list>()) {
       py::dict d = mesh_desc.cast<py::dict>();
@@ -156,11 +156,18 @@ class Session {
     settings.max_step = get<float>(settings_desc, "max_step", settings.max_step);
     settings.samples = get<int>(settings_desc, "samples", settings.samples);
 
+    // progress(done, total) -> bool: False stops the render (Blender's cancel).
+    rtsdf::Renderer::Progress report;
+    if (!progress.is_none())
+      report = [&progress](int done, int total) {
+        py::gil_scoped_acquire acquire;
+        return progress(done, total).cast<bool>();
+      };
     rtsdf::RenderOutput out;
     {
       py::gil_scoped_release release;
       rtsdf::GpuScene gpu_scene(*context_, scene);
-      out = renderer_.render(gpu_scene, camera, lights, ambient, width, height, settings);
+      out = renderer_.render(gpu_scene, camera, lights, ambient, width, height, settings, report);
     }
     py::dict result;
     py::array_t<float> combined({height, width, 4});
@@ -174,6 +181,7 @@ class Session {
     result["ms"] = py::dict(py::arg("sdf") = out.timings.coarse_ms, py::arg("fine") = out.timings.fine_ms,
                             py::arg("shade") = out.timings.shade_ms, py::arg("total") = out.timings.total_ms);
     result["validation_messages"] = context_->validation_message_count();
+    result["samples_done"] = out.samples_done;
     return result;
   }
 
@@ -201,11 +209,12 @@ PYBIND11_MODULE(rtsdf_native, m) {
       .def(py::init<>())
       .def_property_readonly("device", &Session::device)
       .def("render", &Session::render, py::arg("scene"), py::arg("settings") = py::dict(),
+           py::arg("progress") = py::none(),
            "Renders a scene given as plain data: meshes [{positions (N,3), indices (M,3)}], instances "
            "[{mesh, matrix 4x4 row-major, color}], lights [{type SUN|POINT|SPOT|AREA, position, direction, color, "
            "energy, angle, radius, spot_size, spot_blend}], camera {world_to_view, projection (OpenGL), "
            "orthographic}, width, height, ambient. Returns combined (H,W,4), depth, shadow (rows top to bottom) "
-           "and ms.");
+           "and ms. progress(done, total) is called after each accumulation frame; returning False stops.");
   m.def("coarse_sdf", &coarse_sdf, py::arg("positions"), py::arg("indices"), py::arg("coarse_resolution") = 64,
         py::arg("beta") = 0.5f,
         "Coarse SDF of one triangle mesh. Returns a dict with 'distance' [z, y, x] in world units, 'origin', "

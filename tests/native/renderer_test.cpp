@@ -117,3 +117,29 @@ TEST_F(RendererTest, BadSizesAndLightsAreErrors) {
 
 }  // namespace
 }  // namespace rtsdf
+
+namespace rtsdf {
+namespace {
+
+TEST_F(RendererTest, ProgressIsReportedAndCanStopTheRender) {
+  GpuScene scene(context(), single_mesh_scene(reference::box({-1, -1, -1}, {1, 1, 1})));
+  Camera camera;
+  camera.world_to_view = glm::lookAt(glm::vec3(3, 3, 3), glm::vec3(0), glm::vec3(0, 0, 1));
+  camera.projection = glm::perspectiveRH_NO(0.8f, 1.0f, 0.1f, 20.0f);
+  RenderSettings settings;
+  settings.samples = 6;
+  std::vector<int> reported;
+  Renderer renderer(context());
+  RenderOutput out = renderer.render(scene, camera, {}, glm::vec3(0.5f), 16, 16, settings, [&](int done, int total) {
+    reported.push_back(done);
+    EXPECT_EQ(total, 6);
+    return done < 2;  // stop after the second frame
+  });
+  EXPECT_EQ(reported, (std::vector<int>{1, 2}));
+  EXPECT_EQ(out.samples_done, 2);
+  // What was done is in the output: the box is covered and lit by the world.
+  EXPECT_NEAR(out.combined[4 * (8 * 16 + 8)], 0.8f * 0.5f, 1e-3f);
+}
+
+}  // namespace
+}  // namespace rtsdf
