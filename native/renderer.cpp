@@ -84,7 +84,7 @@ RenderOutput Renderer::render(GpuScene& scene, const Camera& camera, const std::
   push.fine_grid = glm::vec4(fine_grid.origin, fine_grid.voxel_size);
   push.fine_dims = glm::ivec4(fine_grid.dims, settings.shadow_max_steps);
   push.march = glm::vec4(settings.shadow_epsilon * fine_grid.voxel_size, settings.max_step * fine_grid.voxel_size,
-                         2.0f * fine_grid.voxel_size, 0.0f);
+                         1.0f * fine_grid.voxel_size, 0.0f);
   for (int sample = 0; sample < settings.samples; ++sample) {
     step = Clock::now();
     fine_.update(scene, coarse_, fine_grid, settings.fine);

@@ -141,7 +141,7 @@ void main() {
       }
       float cos_surface = dot(n, dir);
       if (cos_surface <= 0.0 || dot(irradiance, irradiance) <= 0.0) continue;
-      float t_min = min(pc.march.z / cos_surface, 4.0 * pc.march.z);
+      float t_min = pc.march.z;
       float v = visibility(origin, dir, t_min, t_max, tan_radius, jitter);
       vec3 direct = irradiance * cos_surface;
       color += albedo * direct * v;
