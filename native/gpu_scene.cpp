@@ -52,17 +52,22 @@ const GpuScene::RayStructures& GpuScene::ray_structures() {
 }
 
 void GpuScene::upload_raster() {
-  std::vector<glm::vec3> positions;
+  std::vector<glm::vec3> positions, normals;
   std::vector<uint32_t> indices;
   meshes_.clear();
   for (const Mesh& mesh : scene_.meshes) {
     meshes_.push_back({uint32_t(indices.size()), uint32_t(positions.size()), uint32_t(mesh.triangle_count())});
     positions.insert(positions.end(), mesh.positions.begin(), mesh.positions.end());
     indices.insert(indices.end(), mesh.indices.begin(), mesh.indices.end());
+    if (mesh.normals.empty())
+      normals.resize(positions.size(), glm::vec3(0.0f));
+    else
+      normals.insert(normals.end(), mesh.normals.begin(), mesh.normals.end());
   }
   static_assert(sizeof(glm::vec3) == 3 * sizeof(float), "positions are uploaded as packed floats");
   positions_ = storage(context_, positions);
   indices_ = storage(context_, indices);
+  normals_ = storage(context_, normals);
 }
 
 void GpuScene::build_bottom_level(uint32_t mesh) { mesh_bvhs_[mesh] = build_mesh_bvh(scene_.meshes[mesh]); }

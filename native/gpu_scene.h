@@ -37,6 +37,8 @@ class GpuScene {
 
   const vk::Buffer& positions() const { return positions_; }
   const vk::Buffer& indices() const { return indices_; }
+  // Per-vertex normals, (0,0,0) where a mesh has none (flat shading).
+  const vk::Buffer& normals() const { return normals_; }
   const std::vector<GpuMeshRange>& meshes() const { return meshes_; }
   const std::vector<Instance>& instances() const { return scene_.instances; }
   const Bounds& bounds() const { return bounds_; }
@@ -58,6 +60,7 @@ class GpuScene {
   Bounds bounds_;
   vk::Buffer positions_;
   vk::Buffer indices_;
+  vk::Buffer normals_;
   std::vector<GpuMeshRange> meshes_;
   bool has_ray_structures_ = false;
   std::vector<Bvh> mesh_bvhs_;

@@ -23,6 +23,8 @@ void Scene::validate() const {
         throw Error(label + " has NaN or infinite vertex coordinates");
     for (uint32_t index : mesh.indices)
       if (index >= mesh.positions.size()) throw Error(label + " has a triangle index past its vertex count");
+    if (!mesh.normals.empty() && mesh.normals.size() != mesh.positions.size())
+      throw Error(label + " has a normal count different from its vertex count");
   }
   for (const Instance& instance : instances) {
     if (instance.mesh >= meshes.size()) throw Error("an instance refers to a mesh that does not exist");

@@ -12,6 +12,8 @@ struct Mesh {
   std::string name;
   std::vector<glm::vec3> positions;
   std::vector<uint32_t> indices;  // three per triangle
+  // Optional per-vertex normals for smooth shading; empty: flat faces.
+  std::vector<glm::vec3> normals;
   size_t triangle_count() const { return indices.size() / 3; }
 };
 

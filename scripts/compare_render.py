@@ -5,6 +5,10 @@ figures: RMSE and SSIM of the image, RMSE in the shadowed region, and the time
 ratio of the two whole Blender runs.
 
 usage: compare_render.py SCENE.blend --out DIR [--frame N] [--cycles-samples N] [--percent P]
+                         [--set NAME=VALUE ...] [--reuse-cycles]
+
+--set overrides an RTSDF setting (scene.rtsdf.NAME); --reuse-cycles keeps the
+Cycles renders already in DIR (same scene, frame, samples and size).
 
 The shadowed region is where Cycles' own visibility is below 0.98, measured as
 the ratio of a Cycles render to one with shadow casting turned off.
@@ -29,6 +33,9 @@ import bpy, sys
 args = sys.argv[sys.argv.index("--") + 1:]
 engine, out, frame, samples, percent, shadows = args[0], args[1], int(args[2]), int(args[3]), int(args[4]), args[5] == "1"
 scene = bpy.context.scene
+for assignment in args[6:]:
+    name, value = assignment.split("=", 1)
+    setattr(scene.rtsdf, name, type(getattr(scene.rtsdf, name))(value))
 scene.frame_set(frame)
 scene.render.engine = engine
 scene.render.resolution_percentage = percent
@@ -45,7 +52,7 @@ bpy.data.images["Render Result"].save_render(out)
 """
 
 
-def blender_render(scene, engine, out, frame, samples, percent, shadows=True):
+def blender_render(scene, engine, out, frame, samples, percent, shadows=True, settings=()):
     script = out + ".py"
     with open(script, "w") as f:
         f.write(BLENDER_SIDE)
@@ -53,7 +60,7 @@ def blender_render(scene, engine, out, frame, samples, percent, shadows=True):
     if engine == "RTSDF":
         command += ["--addons", "rtsdf"]
     command += ["--python", script, "--", engine, out, str(frame), str(samples), str(percent),
-                "1" if shadows else "0"]
+                "1" if shadows else "0", *settings]
     start = time.perf_counter()
     result = subprocess.run(command, capture_output=True, text=True)
     seconds = time.perf_counter() - start
@@ -85,15 +92,24 @@ def main():
     parser.add_argument("--frame", type=int, default=1)
     parser.add_argument("--cycles-samples", type=int, default=256)
     parser.add_argument("--percent", type=int, default=100)
+    parser.add_argument("--set", action="append", default=[], metavar="NAME=VALUE",
+                        help="override an RTSDF setting, e.g. --set fine_resolution=256")
+    parser.add_argument("--reuse-cycles", action="store_true", help="keep Cycles renders already in --out")
     args = parser.parse_args()
     os.makedirs(args.out, exist_ok=True)
     name = os.path.splitext(os.path.basename(args.scene))[0]
     path = lambda suffix: os.path.join(args.out, f"{name}_{suffix}.exr")  # noqa: E731
 
-    rtsdf_s = blender_render(args.scene, "RTSDF", path("rtsdf"), args.frame, 0, args.percent)
-    cycles_s = blender_render(args.scene, "CYCLES", path("cycles"), args.frame, args.cycles_samples, args.percent)
-    blender_render(args.scene, "CYCLES", path("cycles_unshadowed"), args.frame, args.cycles_samples, args.percent,
-                   shadows=False)
+    rtsdf_s = blender_render(args.scene, "RTSDF", path("rtsdf"), args.frame, 0, args.percent, settings=args.set)
+    timing = os.path.join(args.out, f"{name}_cycles_seconds.txt")
+    if args.reuse_cycles and os.path.exists(path("cycles_unshadowed")) and os.path.exists(timing):
+        cycles_s = float(open(timing).read())
+    else:
+        cycles_s = blender_render(args.scene, "CYCLES", path("cycles"), args.frame, args.cycles_samples, args.percent)
+        blender_render(args.scene, "CYCLES", path("cycles_unshadowed"), args.frame, args.cycles_samples,
+                       args.percent, shadows=False)
+        with open(timing, "w") as f:
+            f.write(str(cycles_s))
     rtsdf, cycles, unshadowed = load(path("rtsdf")), load(path("cycles")), load(path("cycles_unshadowed"))
 
     difference = np.abs(rtsdf - cycles).mean(axis=-1)
@@ -103,7 +119,7 @@ def main():
     visibility = cycles.mean(axis=-1) / np.maximum(unshadowed.mean(axis=-1), 1e-4)
     shadowed = visibility < 0.98
     shadow_rmse = float(np.sqrt(np.mean((rtsdf[shadowed] - cycles[shadowed]) ** 2))) if shadowed.any() else 0.0
-    figures = {"scene": args.scene, "frame": args.frame, "rmse": rmse, "ssim": ssim, "shadow_rmse": shadow_rmse,
+    figures = {"scene": args.scene, "frame": args.frame, "settings": args.set, "rmse": rmse, "ssim": ssim, "shadow_rmse": shadow_rmse,
                "shadow_pixels": int(shadowed.sum()), "rtsdf_seconds": rtsdf_s, "cycles_seconds": cycles_s,
                "cycles_samples": args.cycles_samples, "time_ratio_cycles_over_rtsdf": cycles_s / rtsdf_s}
     with open(os.path.join(args.out, f"{name}_figures.json"), "w") as f:

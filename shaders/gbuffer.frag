@@ -1,17 +1,20 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
-// G-buffer, fragment stage: world position (w = 1 where covered), normal, base colour.
+// G-buffer, fragment stage: world position (w = 1 where covered), shading
+// normal (interpolated for smooth meshes, else the face's), base colour.
 #include "shared.h"
 
 layout(push_constant) uniform Push { GBufferPush pc; };
 layout(location = 0) in vec3 v_world;
-layout(location = 1) flat in vec3 v_normal;
+layout(location = 1) flat in vec3 v_face_normal;
+layout(location = 2) in vec3 v_smooth_normal;
 layout(location = 0) out vec4 out_position;
 layout(location = 1) out vec4 out_normal;
 layout(location = 2) out vec4 out_albedo;
 
 void main() {
   out_position = vec4(v_world, 1.0);
-  out_normal = vec4(v_normal, 0.0);
+  float smooth_length = length(v_smooth_normal);
+  out_normal = vec4(smooth_length > 1e-6 ? v_smooth_normal / smooth_length : v_face_normal, 0.0);
   out_albedo = vec4(pc.base_color.rgb, 1.0);
 }

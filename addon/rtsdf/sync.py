@@ -31,7 +31,16 @@ def mesh_arrays(obj):
         positions = positions.reshape(-1, 3)
         if not np.isfinite(positions).all():
             raise SceneError(f"Object '{obj.name}' has NaN or infinite vertex coordinates")
-        return {"name": obj.name, "positions": positions, "indices": indices.reshape(-1, 3).astype(np.uint32)}
+        arrays = {"name": obj.name, "positions": positions, "indices": indices.reshape(-1, 3).astype(np.uint32)}
+        # Vertex normals only where every face is smooth-shaded (and no custom
+        # split normals): otherwise faces shade flat, as sharp edges need.
+        smooth = np.empty(len(mesh.polygons), dtype=bool)
+        mesh.polygons.foreach_get("use_smooth", smooth)
+        if smooth.all() and not mesh.has_custom_normals:
+            normals = np.empty(len(mesh.vertices) * 3, dtype=np.float32)
+            mesh.vertices.foreach_get("normal", normals)
+            arrays["normals"] = normals.reshape(-1, 3)
+        return arrays
     finally:
         obj.to_mesh_clear()
 

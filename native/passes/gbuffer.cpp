@@ -15,7 +15,8 @@ constexpr VkFormat kDepth = VK_FORMAT_D32_SFLOAT;
 GBufferPass::GBufferPass(const vk::Context& context)
     : context_(context),
       pipeline_(context, RTSDF_SPIRV(spirv_gbuffer_vert), RTSDF_SPIRV(spirv_gbuffer_frag),
-                {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
+                {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+                 VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
                 sizeof(gpu::GBufferPush), vk::RenderTargets{{kColor, kColor, kColor}, kDepth}) {}
 
 void GBufferPass::resize(int width, int height) {
@@ -49,7 +50,8 @@ void GBufferPass::record(VkCommandBuffer cmd, const GpuScene& scene, const vk::B
   vkCmdSetScissor(cmd, 0, 1, &scissor);
   pipeline_.bind(cmd);
   pipeline_.push_descriptors(cmd, {vk::Resource::storage_buffer(scene.positions()),
-                                   vk::Resource::storage_buffer(scene.indices()), vk::Resource::storage_buffer(frame)});
+                                   vk::Resource::storage_buffer(scene.indices()), vk::Resource::storage_buffer(frame),
+                                   vk::Resource::storage_buffer(scene.normals())});
   for (const Instance& instance : scene.instances()) {
     const GpuMeshRange& mesh = scene.meshes()[instance.mesh];
     if (mesh.triangle_count == 0) continue;

@@ -111,6 +111,12 @@ class Session {
           d["positions"].cast<py::array_t<float, py::array::c_style | py::array::forcecast>>(),
           d["indices"].cast<py::array_t<uint32_t, py::array::c_style | py::array::forcecast>>());
       mesh.name = get<std::string>(d, "name", "mesh");
+      if (d.contains("normals")) {
+        auto normals = d["normals"].cast<py::array_t<float, py::array::c_style | py::array::forcecast>>();
+        if (normals.ndim() != 2 || normals.shape(1) != 3) throw rtsdf::Error("normals must have shape (N, 3)");
+        for (py::ssize_t i = 0; i < normals.shape(0); ++i)
+          mesh.normals.emplace_back(normals.at(i, 0), normals.at(i, 1), normals.at(i, 2));
+      }
       scene.meshes.push_back(std::move(mesh));
     }
     for (const py::handle& instance_desc : scene_desc["instances"].cast<py::list>()) {
@@ -210,7 +216,7 @@ PYBIND11_MODULE(rtsdf_native, m) {
       .def_property_readonly("device", &Session::device)
       .def("render", &Session::render, py::arg("scene"), py::arg("settings") = py::dict(),
            py::arg("progress") = py::none(),
-           "Renders a scene given as plain data: meshes [{positions (N,3), indices (M,3)}], instances "
+           "Renders a scene given as plain data: meshes [{positions (N,3), indices (M,3), normals (N,3) optional}], instances "
            "[{mesh, matrix 4x4 row-major, color}], lights [{type SUN|POINT|SPOT|AREA, position, direction, color, "
            "energy, angle, radius, spot_size, spot_blend}], camera {world_to_view, projection (OpenGL), "
            "orthographic}, width, height, ambient. Returns combined (H,W,4), depth, shadow (rows top to bottom) "
