@@ -5,22 +5,14 @@ Cycles and EEVEE.
 
 blender -b --factory-startup --python blend_samples/make_cad_on_ground.py -- MESH.ply OUT.blend
 """
-import math
+import os
 import sys
 
 import bpy
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from sample_scene import add_sun, finish, material  # noqa: E402
 from mathutils import Vector
-
-
-def material(name, color):
-    mat = bpy.data.materials.new(name)
-    mat.use_nodes = True
-    bsdf = mat.node_tree.nodes["Principled BSDF"]
-    bsdf.inputs["Base Color"].default_value = (*color, 1.0)
-    bsdf.inputs["Specular"].default_value = 0.0
-    bsdf.inputs["Roughness"].default_value = 1.0
-    mat.diffuse_color = (*color, 1.0)
-    return mat
 
 
 def main():
@@ -39,12 +31,7 @@ def main():
     bpy.context.object.name = "Ground"
     bpy.context.object.data.materials.append(material("Ground", (0.8, 0.8, 0.8)))
 
-    sun = bpy.data.lights.new("Sun", "SUN")
-    sun.energy = 3.0
-    sun.angle = math.radians(5.0)
-    sun_object = bpy.data.objects.new("Sun", sun)
-    sun_object.rotation_euler = (math.radians(45), 0, math.radians(-35))
-    scene.collection.objects.link(sun_object)
+    add_sun(scene, (45, 0, -35))
 
     camera = bpy.data.objects.new("Camera", bpy.data.cameras.new("Camera"))
     camera.location = (1.6, -3.2, 2.2)
@@ -53,17 +40,7 @@ def main():
     scene.collection.objects.link(camera)
     scene.camera = camera
 
-    world = bpy.data.worlds.new("World")
-    world.use_nodes = True
-    world.node_tree.nodes["Background"].inputs["Color"].default_value = (0.05, 0.05, 0.05, 1.0)
-    scene.world = world
-    scene.render.resolution_x, scene.render.resolution_y = 640, 360
-    scene.render.resolution_percentage = 100
-    scene.view_settings.view_transform = "Standard"
-    scene.eevee.use_soft_shadows = True
-    scene.eevee.shadow_cascade_size = "4096"
-    bpy.ops.wm.save_as_mainfile(filepath=out)
-    print(f"wrote {out}")
+    finish(scene, out)
 
 
 main()
