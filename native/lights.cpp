@@ -27,8 +27,9 @@ gpu::GpuLight to_gpu(const Light& light) {
   out.position = glm::vec4(light.position, 0.0f);
   // Measured with Cycles here: a white diffuse plane facing a sun of strength S
   // renders S / pi; at distance r from a point light of power P it renders
-  // P / (4 pi r^2) / pi. Spots keep the point's intensity inside the cone;
-  // area lights are one-sided Lambertian emitters (intensity P / pi on axis).
+  // P / (4 pi r^2) / pi, and so does a spot inside its cone; on the axis of an
+  // area light of power P (any size) it renders P / (4 pi r^2): intensity P / 4,
+  // falling off with the cosine off the axis (one-sided).
   switch (light.type) {
     case LightType::Sun:
       out.position.w = float(gpu::kLightSun);
@@ -48,7 +49,7 @@ gpu::GpuLight to_gpu(const Light& light) {
       break;
     case LightType::Area:
       out.position.w = float(gpu::kLightArea);
-      out.radiance = glm::vec4(light.color * light.energy / (pi * pi), 0.0f);
+      out.radiance = glm::vec4(light.color * light.energy / (4.0f * pi), 0.0f);
       out.spot = glm::vec4(-2.0f, 1.0f, 1.0f, 0.0f);
       break;
   }

@@ -136,7 +136,9 @@ void main() {
         t_max = max(distance - light.direction.w, 0.0);
         tan_radius = light.direction.w / max(distance, 1e-6);
         float cos_axis = dot(-dir, light.direction.xyz);
-        if (type == kLightSpot) irradiance *= smoothstep(light.spot.x, light.spot.x + light.spot.y, cos_axis);
+        // As Cycles: inside the cone, the cosine to the axis times a smoothstep over the blend.
+        if (type == kLightSpot)
+          irradiance *= max(cos_axis, 0.0) * smoothstep(light.spot.x, light.spot.x + light.spot.y, cos_axis);
         if (light.spot.z > 0.5) irradiance *= max(cos_axis, 0.0);
       }
       float cos_surface = dot(n, dir);
