@@ -56,7 +56,7 @@ RenderOutput Renderer::render(GpuScene& scene, const Camera& camera, const std::
   const GridSpec coarse_grid = fit_grid(scene.bounds(), settings.coarse_resolution);
   coarse_.build(scene, coarse_grid, settings.beta);
   const GridSpec fine_grid = FineSdf::fit(coarse_grid, settings.fine_resolution);
-  fine_.reset();
+  if (!settings.keep_history) fine_.reset();  // (a new grid resets it anyway)
   out.timings.coarse_ms = ms_since(step);
 
   const std::vector<gpu::GpuLight> gpu_lights = to_gpu(lights);

@@ -37,6 +37,9 @@ struct RenderSettings {
   int shadow_max_steps = 96;
   float max_step = 4.0f;         // fine voxels
   int samples = 16;              // accumulation frames (sub-pixel and shadow-origin jitter each)
+  // Keep the fine SDF of the previous render (same grid) and go on accumulating
+  // it, as the paper does frame to frame; the decay forgets what moved.
+  bool keep_history = false;
 };
 
 struct RenderTimings {

@@ -36,7 +36,7 @@ class RTSDFRenderEngine(bpy.types.RenderEngine):
                 self.update_stats("RTSDF", f"Sample {done}/{total} on {session.device}")
                 return not self.test_break()
 
-            out = session.render(data, scene.rtsdf.as_dict(), progress)
+            out = session.render(data, scene.rtsdf.as_dict(), progress, scene.render.use_persistent_data)
         except sync.SceneError as e:
             self.report({"ERROR"}, f"RTSDF: {e}")
             return

@@ -103,7 +103,10 @@ class Session {
 
   std::string device() const { return context_->info().name; }
 
-  py::dict render(const py::dict& scene_desc, const py::dict& settings_desc, const py::object& progress) {
+  // persistent: keep the device scene (uploads, BVHs) when only transforms
+  // changed since the last render, and the fine SDF's history.
+  py::dict render(const py::dict& scene_desc, const py::dict& settings_desc, const py::object& progress,
+                  bool persistent) {
     rtsdf::Scene scene;
     for (const py::handle& mesh_desc : scene_desc["meshes"].cast<py::list>()) {
       py::dict d = mesh_desc.cast<py::dict>();
@@ -169,11 +172,23 @@ class Session {
         py::gil_scoped_acquire acquire;
         return progress(done, total).cast<bool>();
       };
+    settings.keep_history = persistent;
     rtsdf::RenderOutput out;
+    bool reused = false;
     {
       py::gil_scoped_release release;
-      rtsdf::GpuScene gpu_scene(*context_, scene);
-      out = renderer_.render(gpu_scene, camera, lights, ambient, width, height, settings, report);
+      reused = persistent && gpu_scene_ && same_geometry(scene);
+      if (reused) {
+        std::vector<glm::mat4> transforms;
+        for (const rtsdf::Instance& instance : scene.instances) transforms.push_back(instance.object_to_world);
+        gpu_scene_->set_transforms(transforms);
+      } else {
+        gpu_scene_ = std::make_unique<rtsdf::GpuScene>(*context_, scene);
+        meshes_ = scene.meshes;
+        instances_ = scene.instances;
+      }
+      out = renderer_.render(*gpu_scene_, camera, lights, ambient, width, height, settings, report);
+      if (!persistent) gpu_scene_.reset();
     }
     py::dict result;
     py::array_t<float> combined({height, width, 4});
@@ -188,12 +203,30 @@ class Session {
                             py::arg("shade") = out.timings.shade_ms, py::arg("total") = out.timings.total_ms);
     result["validation_messages"] = context_->validation_message_count();
     result["samples_done"] = out.samples_done;
+    result["scene_reused"] = reused;
     return result;
   }
 
  private:
+  // The same meshes (vertices, triangles) and instances of the same meshes and
+  // colours as the scene on the device: only transforms may differ.
+  bool same_geometry(const rtsdf::Scene& scene) const {
+    if (scene.meshes.size() != meshes_.size() || scene.instances.size() != instances_.size()) return false;
+    for (size_t m = 0; m < meshes_.size(); ++m)
+      if (scene.meshes[m].positions != meshes_[m].positions || scene.meshes[m].indices != meshes_[m].indices ||
+          scene.meshes[m].normals != meshes_[m].normals)
+        return false;
+    for (size_t i = 0; i < instances_.size(); ++i)
+      if (scene.instances[i].mesh != instances_[i].mesh || scene.instances[i].base_color != instances_[i].base_color)
+        return false;
+    return true;
+  }
+
   std::unique_ptr<rtsdf::vk::Context> context_;
   rtsdf::Renderer renderer_;
+  std::unique_ptr<rtsdf::GpuScene> gpu_scene_;  // kept between persistent renders
+  std::vector<rtsdf::Mesh> meshes_;
+  std::vector<rtsdf::Instance> instances_;
 };
 
 }  // namespace
@@ -215,12 +248,14 @@ PYBIND11_MODULE(rtsdf_native, m) {
       .def(py::init<>())
       .def_property_readonly("device", &Session::device)
       .def("render", &Session::render, py::arg("scene"), py::arg("settings") = py::dict(),
-           py::arg("progress") = py::none(),
+           py::arg("progress") = py::none(), py::arg("persistent") = false,
            "Renders a scene given as plain data: meshes [{positions (N,3), indices (M,3), normals (N,3) optional}], instances "
            "[{mesh, matrix 4x4 row-major, color}], lights [{type SUN|POINT|SPOT|AREA, position, direction, color, "
            "energy, angle, radius, spot_size, spot_blend}], camera {world_to_view, projection (OpenGL), "
            "orthographic}, width, height, ambient. Returns combined (H,W,4), depth, shadow (rows top to bottom) "
-           "and ms. progress(done, total) is called after each accumulation frame; returning False stops.");
+           "and ms. progress(done, total) is called after each accumulation frame; returning False stops. "
+           "persistent=True keeps the scene on the device and the fine SDF between renders when only transforms "
+           "change (Blender's persistent data); the result's scene_reused tells whether it did.");
   m.def("coarse_sdf", &coarse_sdf, py::arg("positions"), py::arg("indices"), py::arg("coarse_resolution") = 64,
         py::arg("beta") = 0.5f,
         "Coarse SDF of one triangle mesh. Returns a dict with 'distance' [z, y, x] in world units, 'origin', "

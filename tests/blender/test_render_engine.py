@@ -110,6 +110,23 @@ class RenderEngine(unittest.TestCase):
         first, last = (np.array(bpy.data.images.load(p).pixels[:]) for p in (frames[0], frames[2]))
         self.assertGreater(np.abs(first - last).max(), 0.1, "the moving sphere changes the image")
 
+    def test_persistent_data_keeps_the_scene_when_only_transforms_change(self):
+        import rtsdf
+        session, error = rtsdf.native.session()
+        self.assertIsNone(error)
+        depsgraph = bpy.context.evaluated_depsgraph_get()
+        bpy.context.scene.render.resolution_percentage = 10
+        data = rtsdf.sync.extract(depsgraph)
+        settings = {"samples": 1}
+        self.assertFalse(session.render(data, settings, None, True)["scene_reused"])
+        self.assertTrue(session.render(data, settings, None, True)["scene_reused"])
+        data["instances"][0]["matrix"] = data["instances"][0]["matrix"].copy()
+        data["instances"][0]["matrix"][0, 3] += 0.5  # a rigid move
+        self.assertTrue(session.render(data, settings, None, True)["scene_reused"])
+        data["meshes"][0]["positions"] = data["meshes"][0]["positions"] * 1.1  # a deformation
+        self.assertFalse(session.render(data, settings, None, True)["scene_reused"])
+        self.assertFalse(session.render(data, settings, None, False)["scene_reused"])
+
     def assert_reports_error(self):
         # Blender turns an ERROR report from the engine into a failed operator.
         with self.assertRaises(RuntimeError) as caught:
