@@ -16,8 +16,10 @@ the ratio of a Cycles render to one with shadow casting turned off.
 import argparse
 import json
 import os
+import shutil
 import subprocess
 import sys
+import tempfile
 import time
 
 import matplotlib
@@ -52,8 +54,12 @@ bpy.data.images["Render Result"].save_render(out)
 """
 
 
+# Helper scripts and arrays go here, not into the output folder.
+WORK = tempfile.mkdtemp(prefix="rtsdf_compare_")
+
+
 def blender_render(scene, engine, out, frame, samples, percent, shadows=True, settings=()):
-    script = out + ".py"
+    script = os.path.join(WORK, "render.py")
     with open(script, "w") as f:
         f.write(BLENDER_SIDE)
     command = ["blender", "-b", scene, "--python-exit-code", "1"]
@@ -71,7 +77,7 @@ def blender_render(scene, engine, out, frame, samples, percent, shadows=True, se
 
 def load(path):
     # Blender writes the EXR; read it back through a tiny Blender call to stay dependency-free.
-    npy = path + ".npy"
+    npy = os.path.join(WORK, os.path.basename(path) + ".npy")
     code = ("import bpy, numpy as np; im = bpy.data.images.load(%r); "
             "a = np.array(im.pixels[:], dtype=np.float32).reshape(im.size[1], im.size[0], 4); "
             "np.save(%r, a[::-1, :, :3])" % (path, npy))
@@ -140,6 +146,7 @@ def main():
     fig.savefig(out_png, dpi=80)
     print(json.dumps(figures, indent=2))
     print(f"wrote {out_png}")
+    shutil.rmtree(WORK, ignore_errors=True)
 
 
 if __name__ == "__main__":
