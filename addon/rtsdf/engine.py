@@ -12,6 +12,8 @@ class RTSDFRenderEngine(bpy.types.RenderEngine):
     bl_label = "RTSDF"
     bl_use_preview = False
     bl_use_postprocess = True
+    # The viewport's Rendered shading uses EEVEE until RTSDF draws it itself.
+    bl_use_eevee_viewport = True
 
     def update_render_passes(self, scene=None, renderlayer=None):
         self.register_pass(scene, renderlayer, "Combined", 4, "RGBA", "COLOR")
