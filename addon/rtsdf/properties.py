@@ -6,28 +6,28 @@ from bpy.props import FloatProperty, IntProperty
 
 class RTSDFSettings(bpy.types.PropertyGroup):
     coarse_resolution: IntProperty(
-        name="Coarse Resolution", default=64, min=8, max=512,
+        name="Coarse", default=64, min=8, max=512,
         description="Voxels on the longest axis of the coarse (jump-flooded) SDF")
     fine_resolution: IntProperty(
-        name="Fine Resolution", default=128, min=16, max=1024,
+        name="Fine", default=128, min=16, max=1024,
         description="Voxels on the longest axis of the fine (ray-traced) SDF; at least the coarse resolution")
     beta: FloatProperty(
         name="Beta", default=0.5, min=0.0, max=4.0,
         description="Bias subtracted from the coarse distance, in coarse voxels: thickens surfaces")
     trace_band: FloatProperty(
-        name="Trace Band", default=3.0, min=0.5, max=16.0,
+        name="Band", default=3.0, min=0.5, max=16.0,
         description="d: fine texels within this coarse distance (coarse voxels) are ray traced")
     decay: FloatProperty(
         name="Decay", default=0.9, min=0.0, max=0.99,
         description="Alpha: weight of the previous frame's fine SDF (higher converges further, forgets slower)")
     rays_per_texel: IntProperty(
-        name="Rays per Texel", default=8, min=1, max=64,
+        name="Rays", default=8, min=1, max=64,
         description="Rays cast from each traced fine texel per frame")
     shadow_epsilon: FloatProperty(
-        name="Shadow Epsilon", default=1.0, min=0.25, max=4.0,
+        name="Epsilon", default=1.0, min=0.25, max=4.0,
         description="Surface thickness the shadow march treats as solid, in fine voxels")
     shadow_max_steps: IntProperty(
-        name="Shadow Steps", default=96, min=8, max=1024,
+        name="Steps", default=96, min=8, max=1024,
         description="Step limit of the shadow march")
     max_step: FloatProperty(
         name="Max Step", default=4.0, min=0.5, max=32.0,

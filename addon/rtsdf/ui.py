@@ -26,13 +26,14 @@ class RTSDF_PT_settings(bpy.types.Panel):
         layout = self.layout
         layout.use_property_split = True
         settings = context.scene.rtsdf
-        column = layout.column(heading="SDF")
-        for name in ("coarse_resolution", "fine_resolution", "beta", "trace_band", "decay", "rays_per_texel"):
-            column.prop(settings, name)
-        column = layout.column(heading="Shadows")
-        for name in ("shadow_epsilon", "shadow_max_steps", "max_step"):
-            column.prop(settings, name)
-        layout.prop(settings, "samples")
+        sections = (("Resolution", ("coarse_resolution", "fine_resolution")),
+                    ("Fine SDF", ("beta", "trace_band", "decay", "rays_per_texel")),
+                    ("Shadows", ("shadow_epsilon", "shadow_max_steps", "max_step")),
+                    ("Render", ("samples",)))
+        for heading, names in sections:
+            column = layout.column(align=True, heading=heading)
+            for name in names:
+                column.prop(settings, name)
 
 
 def compatible_panels():
