@@ -109,6 +109,7 @@ void GpuScene::build_top_level() {
     const Instance& instance = scene_.instances[i];
     gpu::RayInstance ray{};
     ray.world_to_object = glm::inverse(instance.object_to_world);
+    ray.object_to_world = instance.object_to_world;
     ray.blas_root = blas_roots_[instance.mesh];
     ray.mirrored = glm::determinant(glm::mat3(instance.object_to_world)) < 0.0f ? 1u : 0u;
     instances.push_back(ray);

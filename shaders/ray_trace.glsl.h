@@ -16,7 +16,8 @@ float box_entry(vec3 origin, vec3 inv_dir, vec4 lo, vec4 hi, float t_max) {
   return enter <= leave ? enter : 3.0e38;
 }
 
-void trace_mesh(uint root, vec3 origin, vec3 dir, bool mirrored, inout float best_t, inout bool front) {
+void trace_mesh(uint root, vec3 origin, vec3 dir, bool mirrored, inout float best_t, inout bool front,
+                inout uint best_triangle) {
   vec3 inv_dir = 1.0 / dir;
   uint stack[RTSDF_STACK];
   int top = 0;
@@ -43,14 +44,17 @@ void trace_mesh(uint root, vec3 origin, vec3 dir, bool mirrored, inout float bes
       float v = dot(dir, q) * inv_det;
       if (v < 0.0 || u + v > 1.0) continue;
       float t = dot(e2, q) * inv_det;
-      if (t > 0.0 && t < best_t) { best_t = t; front = (det > 0.0) != mirrored; }
+      if (t > 0.0 && t < best_t) { best_t = t; front = (det > 0.0) != mirrored; best_triangle = i; }
     }
   }
 }
 
-// Returns the closest hit distance below t_max (or t_max) and its facing.
-float trace_scene(vec3 origin, vec3 dir, float t_max, out bool front) {
+// Returns the closest hit distance below t_max (or t_max), its facing, and
+// which triangle (index into triangle_corners / 3) of which instance it hit.
+float trace_scene(vec3 origin, vec3 dir, float t_max, out bool front, out uint hit_triangle, out uint hit_instance) {
   front = true;
+  hit_triangle = 0u;
+  hit_instance = 0u;
   float best_t = t_max;
   vec3 inv_dir = 1.0 / dir;
   uint stack[RTSDF_STACK];
@@ -68,8 +72,42 @@ float trace_scene(vec3 origin, vec3 dir, float t_max, out bool front) {
       // Unnormalized object-space direction keeps t in world units.
       vec3 o = (inst.world_to_object * vec4(origin, 1.0)).xyz;
       vec3 d = mat3(inst.world_to_object) * dir;
-      trace_mesh(inst.blas_root, o, d, inst.mirrored != 0u, best_t, front);
+      uint before = hit_triangle;
+      trace_mesh(inst.blas_root, o, d, inst.mirrored != 0u, best_t, front, hit_triangle);
+      if (hit_triangle != before) hit_instance = i;
     }
   }
   return best_t;
+}
+
+// Distance from p to the triangle (a, b, c) (Ericson, Real-Time Collision
+// Detection, 5.1.5: the closest point by Voronoi region).
+float point_triangle_distance(vec3 p, vec3 a, vec3 b, vec3 c) {
+  vec3 ab = b - a, ac = c - a, ap = p - a;
+  float d1 = dot(ab, ap), d2 = dot(ac, ap);
+  if (d1 <= 0.0 && d2 <= 0.0) return length(ap);
+  vec3 bp = p - b;
+  float d3 = dot(ab, bp), d4 = dot(ac, bp);
+  if (d3 >= 0.0 && d4 <= d3) return length(bp);
+  float vc = d1 * d4 - d3 * d2;
+  if (vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0) return length(p - (a + ab * (d1 / (d1 - d3))));
+  vec3 cp = p - c;
+  float d5 = dot(ab, cp), d6 = dot(ac, cp);
+  if (d6 >= 0.0 && d5 <= d6) return length(cp);
+  float vb = d5 * d2 - d1 * d6;
+  if (vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0) return length(p - (a + ac * (d2 / (d2 - d6))));
+  float va = d3 * d6 - d5 * d4;
+  if (va <= 0.0 && (d4 - d3) >= 0.0 && (d5 - d6) >= 0.0)
+    return length(p - (b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6)))));
+  float denom = 1.0 / (va + vb + vc);
+  return length(p - (a + ab * (vb * denom) + ac * (vc * denom)));
+}
+
+// World-space distance from p to a triangle the ray tracer hit.
+float distance_to_hit(vec3 p, uint triangle, uint instance) {
+  mat4 m = instances[instance].object_to_world;
+  vec3 a = (m * vec4(triangle_corners[3u * triangle].xyz, 1.0)).xyz;
+  vec3 b = (m * vec4(triangle_corners[3u * triangle + 1u].xyz, 1.0)).xyz;
+  vec3 c = (m * vec4(triangle_corners[3u * triangle + 2u].xyz, 1.0)).xyz;
+  return point_triangle_distance(p, a, b, c);
 }

@@ -60,6 +60,7 @@ struct BvhNode {
 // A placed mesh, as the ray tracer sees it.
 struct RayInstance {
   mat4 world_to_object;
+  mat4 object_to_world;
   uint blas_root;   // index of the mesh's root in the bottom-level node buffer
   uint mirrored;    // 1 if the transform flips winding (negative determinant)
   uint pad0;
@@ -122,7 +123,7 @@ static_assert(sizeof(GpuLight) == 64, "GpuLight layout");
 static_assert(sizeof(FrameData) == 112, "FrameData layout");
 static_assert(sizeof(GBufferPush) == 96, "GBufferPush layout");
 static_assert(sizeof(ShadePush) == 64, "ShadePush layout");
-static_assert(sizeof(RayInstance) == 80, "RayInstance layout");
+static_assert(sizeof(RayInstance) == 144, "RayInstance layout");
 static_assert(sizeof(FinePush) == 112, "FinePush layout");
 static_assert(sizeof(VoxelizePush) == 96, "VoxelizePush layout");
 static_assert(sizeof(JumpFloodPush) == 16, "JumpFloodPush layout");
