@@ -27,13 +27,13 @@ FineSdf::FineSdf(const vk::Context& context) : context_(context), pass_(context)
 
 void FineSdf::allocate(const GridSpec& grid) {
   if (distance_.dims() == grid.dims && grid.origin == grid_.origin && grid.voxel_size == grid_.voxel_size) return;
-  const size_t needed = grid.voxel_count() * (4 + 8 + 4);
+  const size_t needed = grid.voxel_count() * (4 + 16 + 4);
   if (needed > context_.device_local_heap_bytes() * 3 / 4)
     throw Error("the fine grid needs " + std::to_string(needed >> 20) + " MiB: lower the fine resolution");
   const VkImageUsageFlags usage =
       VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT | VK_IMAGE_USAGE_SAMPLED_BIT;
   distance_ = vk::Image(context_, grid.dims, VK_FORMAT_R32_SFLOAT, usage);
-  hit_counts_ = vk::Image(context_, grid.dims, VK_FORMAT_R32G32_SFLOAT, usage);
+  hit_counts_ = vk::Image(context_, grid.dims, VK_FORMAT_R32G32B32A32_SFLOAT, usage);
   trace_list_ = vk::Buffer(context_, (grid.voxel_count() + 1) * sizeof(uint32_t),
                            VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT |
                                VK_BUFFER_USAGE_TRANSFER_SRC_BIT,

@@ -5,6 +5,7 @@
 #include <cstring>
 
 #include "error.h"
+#include "mesh_topology.h"
 #include "shaders/shared.h"
 
 namespace rtsdf {
@@ -34,14 +35,34 @@ vk::Buffer storage(const vk::Context& context, const std::vector<T>& data) {
 
 GpuScene::GpuScene(const vk::Context& context, const Scene& scene) : context_(context), scene_(scene) {
   scene_.validate();
-  bounds_ = scene_.world_bounds();
+  for (uint32_t i = 0; i < scene_.instances.size(); ++i)
+    if (scene_.instances[i].casts_shadow) casters_.push_back(i);
+  update_bounds();
   upload_raster();
 }
 
+void GpuScene::update_bounds() {
+  bounds_ = casters_.empty() ? Bounds{} : scene_.world_bounds(casters_);
+}
+
+void GpuScene::set_shadow_casters(const std::vector<uint8_t>& casters) {
+  if (casters.size() != scene_.instances.size())
+    throw Error("set_shadow_casters: expected " + std::to_string(scene_.instances.size()) + " flags");
+  std::vector<uint32_t> indices;
+  for (uint32_t i = 0; i < casters.size(); ++i)
+    if (casters[i]) indices.push_back(i);
+  if (indices == casters_) return;
+  casters_ = std::move(indices);
+  update_bounds();
+  if (has_ray_structures_) build_top_level();
+}
+
 const GpuScene::RayStructures& GpuScene::ray_structures() {
+  if (casters_.empty()) throw Error("the scene has no shadow-casting geometry to trace");
   if (!has_ray_structures_) {
     Clock::time_point start = Clock::now();
     mesh_bvhs_.resize(scene_.meshes.size());
+    open_triangles_.resize(scene_.meshes.size());
     for (uint32_t m = 0; m < scene_.meshes.size(); ++m) build_bottom_level(m);
     upload_bottom_levels();
     build_top_level();
@@ -70,7 +91,10 @@ void GpuScene::upload_raster() {
   normals_ = storage(context_, normals);
 }
 
-void GpuScene::build_bottom_level(uint32_t mesh) { mesh_bvhs_[mesh] = build_mesh_bvh(scene_.meshes[mesh]); }
+void GpuScene::build_bottom_level(uint32_t mesh) {
+  mesh_bvhs_[mesh] = build_mesh_bvh(scene_.meshes[mesh]);
+  open_triangles_[mesh] = open_triangles(scene_.meshes[mesh]);
+}
 
 void GpuScene::upload_bottom_levels() {
   std::vector<gpu::BvhNode> nodes;
@@ -82,16 +106,20 @@ void GpuScene::upload_bottom_levels() {
     const uint32_t node_offset = uint32_t(nodes.size()), triangle_offset = uint32_t(corners.size() / 3);
     blas_roots_.push_back(node_offset);
     for (const BvhBuildNode& n : bvh.nodes) nodes.push_back(to_gpu(n, node_offset, triangle_offset));
+    // The first corner's w is 1 for a triangle of a closed surface, 0 for one of an open surface.
     for (uint32_t t : bvh.order)
-      for (int k = 0; k < 3; ++k) corners.emplace_back(mesh.positions[mesh.indices[3 * t + k]], 1.0f);
+      for (int k = 0; k < 3; ++k)
+        corners.emplace_back(mesh.positions[mesh.indices[3 * t + k]], k == 0 && open_triangles_[m][t] ? 0.0f : 1.0f);
   }
   rays_.bottom_nodes = storage(context_, nodes);
   rays_.triangles = storage(context_, corners);
 }
 
 void GpuScene::build_top_level() {
+  if (casters_.empty()) return;  // nothing to trace; ray_structures() refuses
   std::vector<Aabb> boxes;
-  for (const Instance& instance : scene_.instances) {
+  for (uint32_t i : casters_) {
+    const Instance& instance = scene_.instances[i];
     Aabb box;
     const BvhBuildNode& root = mesh_bvhs_[instance.mesh].nodes[0];
     for (int corner = 0; corner < 8; ++corner) {
@@ -106,7 +134,7 @@ void GpuScene::build_top_level() {
   for (const BvhBuildNode& n : top.nodes) nodes.push_back(to_gpu(n, 0, 0));
   std::vector<gpu::RayInstance> instances;
   for (uint32_t i : top.order) {
-    const Instance& instance = scene_.instances[i];
+    const Instance& instance = scene_.instances[casters_[i]];
     gpu::RayInstance ray{};
     ray.world_to_object = glm::inverse(instance.object_to_world);
     ray.object_to_world = instance.object_to_world;
@@ -127,7 +155,7 @@ void GpuScene::set_transforms(const std::vector<glm::mat4>& object_to_world) {
       for (int r = 0; r < 4; ++r)
         if (!std::isfinite(m[c][r])) throw Error("set_transforms: a transform has NaN or infinite entries");
   for (size_t i = 0; i < object_to_world.size(); ++i) scene_.instances[i].object_to_world = object_to_world[i];
-  bounds_ = scene_.world_bounds();
+  update_bounds();
   if (!has_ray_structures_) return;
   Clock::time_point start = Clock::now();
   build_top_level();
@@ -141,7 +169,7 @@ void GpuScene::set_mesh_positions(uint32_t mesh, const std::vector<glm::vec3>& p
   deformed.meshes[mesh].positions = positions;
   deformed.validate();
   scene_ = std::move(deformed);
-  bounds_ = scene_.world_bounds();
+  update_bounds();
   upload_raster();
   if (!has_ray_structures_) return;
   Clock::time_point start = Clock::now();

@@ -27,7 +27,7 @@ class GpuScene {
     vk::Buffer top_nodes;
     vk::Buffer instances;
     vk::Buffer bottom_nodes;
-    vk::Buffer triangles;  // three corners per triangle, in bottom-level leaf order
+    vk::Buffer triangles;  // three corners per triangle, in bottom-level leaf order; w of the first: 0 on an open surface
   };
 
   // A rigid motion: only the top level is rebuilt.
@@ -41,10 +41,20 @@ class GpuScene {
   const vk::Buffer& normals() const { return normals_; }
   const std::vector<GpuMeshRange>& meshes() const { return meshes_; }
   const std::vector<Instance>& instances() const { return scene_.instances; }
+  const Scene& scene() const { return scene_; }
+
+  // Which instances go into the SDFs (the voxelization and the BVH): one flag
+  // per instance, by default each instance's casts_shadow. A change rebuilds
+  // only the top-level BVH.
+  void set_shadow_casters(const std::vector<uint8_t>& casters);
+  const std::vector<uint32_t>& shadow_casters() const { return casters_; }
+  // World bounds of the shadow casters, which the SDF grids are fitted to
+  // (zero-sized when there are none).
   const Bounds& bounds() const { return bounds_; }
   size_t triangle_count() const { return scene_.triangle_count(); }
 
-  // The BVHs, built (or brought up to date) on first use.
+  // The BVHs over the shadow casters, built (or brought up to date) on first
+  // use. Throws rtsdf::Error when there is no shadow caster.
   const RayStructures& ray_structures();
   // CPU milliseconds of the last BVH work (bottom levels built + top level); 0 before any.
   double bvh_build_ms() const { return bvh_build_ms_; }
@@ -54,9 +64,11 @@ class GpuScene {
   void build_bottom_level(uint32_t mesh);
   void upload_bottom_levels();
   void build_top_level();
+  void update_bounds();
 
   const vk::Context& context_;
   Scene scene_;
+  std::vector<uint32_t> casters_;  // instance indices
   Bounds bounds_;
   vk::Buffer positions_;
   vk::Buffer indices_;
@@ -64,6 +76,7 @@ class GpuScene {
   std::vector<GpuMeshRange> meshes_;
   bool has_ray_structures_ = false;
   std::vector<Bvh> mesh_bvhs_;
+  std::vector<std::vector<uint8_t>> open_triangles_;  // per mesh, per triangle (see mesh_topology.h)
   std::vector<uint32_t> blas_roots_;
   RayStructures rays_;
   double bvh_build_ms_ = 0.0;

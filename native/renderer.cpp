@@ -5,6 +5,7 @@
 #include <cstring>
 #include <glm/gtc/matrix_transform.hpp>
 
+#include "shadow_casters.h"
 #include "vk/context.h"
 
 namespace rtsdf {
@@ -44,6 +45,7 @@ RenderOutput Renderer::render(GpuScene& scene, const Camera& camera, const std::
   if (width < 1 || height < 1 || width > 16384 || height > 16384)
     throw Error("image size " + std::to_string(width) + "x" + std::to_string(height) + " is out of range (1 to 16384)");
   if (settings.samples < 1 || settings.samples > 4096) throw Error("samples must be 1 to 4096");
+  if (settings.sdf_updates < 0 || settings.sdf_updates > 4096) throw Error("sdf_updates must be 0 (every frame) to 4096");
   if (settings.shadow_max_steps < 1 || settings.shadow_max_steps > 4096) throw Error("shadow_max_steps must be 1 to 4096");
   if (!(settings.shadow_epsilon > 0.0f) || !(settings.max_step > 0.0f))
     throw Error("shadow_epsilon and max_step must be positive");
@@ -53,10 +55,26 @@ RenderOutput Renderer::render(GpuScene& scene, const Camera& camera, const std::
   out.height = height;
 
   Clock::time_point step = Clock::now();
-  const GridSpec coarse_grid = fit_grid(scene.bounds(), settings.coarse_resolution);
-  coarse_.build(scene, coarse_grid, settings.beta);
-  const GridSpec fine_grid = FineSdf::fit(coarse_grid, settings.fine_resolution);
-  if (!settings.keep_history) fine_.reset();  // (a new grid resets it anyway)
+  // The SDFs hold only what can shadow something, on grids fitted to it.
+  scene.set_shadow_casters(find_shadow_casters(scene.scene(), lights));
+  const bool has_casters = !scene.shadow_casters().empty();
+  GridSpec fine_grid;
+  if (has_casters) {
+    const GridSpec coarse_grid = fit_grid(scene.bounds(), settings.coarse_resolution);
+    coarse_.build(scene, coarse_grid, settings.beta);
+    fine_grid = FineSdf::fit(coarse_grid, settings.fine_resolution);
+    if (!settings.keep_history) fine_.reset();  // (a new grid resets it anyway)
+  } else if (!no_casters_field_) {
+    // Nothing casts shadows: a one-texel field the shading never marches.
+    no_casters_field_ = std::make_unique<vk::Image>(context_, glm::ivec3(1), VK_FORMAT_R32_SFLOAT,
+                                                    VK_IMAGE_USAGE_STORAGE_BIT);
+    context_.submit_and_wait([&](VkCommandBuffer cmd) {
+      vk::image_barrier(cmd, no_casters_field_->handle(), VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL, 0,
+                        VK_ACCESS_SHADER_READ_BIT, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT,
+                        VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT);
+    });
+  }
+  const vk::Image& field = has_casters ? fine_.distance() : *no_casters_field_;
   out.timings.coarse_ms = ms_since(step);
 
   const std::vector<gpu::GpuLight> gpu_lights = to_gpu(lights);
@@ -82,12 +100,13 @@ RenderOutput Renderer::render(GpuScene& scene, const Camera& camera, const std::
 
   gpu::ShadePush push{};
   push.fine_grid = glm::vec4(fine_grid.origin, fine_grid.voxel_size);
-  push.fine_dims = glm::ivec4(fine_grid.dims, settings.shadow_max_steps);
+  push.fine_dims = glm::ivec4(fine_grid.dims, has_casters ? settings.shadow_max_steps : 0);
   push.march = glm::vec4(settings.shadow_epsilon * fine_grid.voxel_size, settings.max_step * fine_grid.voxel_size,
                          1.0f * fine_grid.voxel_size, 0.0f);
   for (int sample = 0; sample < settings.samples; ++sample) {
     step = Clock::now();
-    fine_.update(scene, coarse_, fine_grid, settings.fine);
+    if (has_casters && (settings.sdf_updates == 0 || sample < settings.sdf_updates))
+      fine_.update(scene, coarse_, fine_grid, settings.fine);
     out.timings.fine_ms += ms_since(step);
 
     step = Clock::now();
@@ -101,7 +120,7 @@ RenderOutput Renderer::render(GpuScene& scene, const Camera& camera, const std::
     push.march.w = 1.0f / float(sample + 1);
     context_.submit_and_wait([&](VkCommandBuffer cmd) {
       gbuffer_.record(cmd, scene, frame);
-      shade_.record(cmd, gbuffer_, fine_.distance(), light_buffer, frame, accum_color, accum_passes, push);
+      shade_.record(cmd, gbuffer_, field, light_buffer, frame, accum_color, accum_passes, push);
     });
     out.timings.shade_ms += ms_since(step);
     out.samples_done = sample + 1;

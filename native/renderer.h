@@ -2,6 +2,7 @@
 // The whole RTSDF frame: coarse SDF -> fine SDF -> G-buffer -> shading with
 // SDF soft shadows, averaged over accumulation frames.
 #include <functional>
+#include <memory>
 #include <vector>
 
 #include "coarse_sdf.h"
@@ -24,7 +25,7 @@ struct Camera {
 // (RendererTest.SpherePenumbraMatchesAnalyticWidth: a dip to 0.83 at d = 2).
 inline FineTraceSettings shading_fine_settings() {
   FineTraceSettings settings;
-  settings.trace_band = 3.0f;
+  settings.trace_band = 2.0f;
   return settings;
 }
 
@@ -37,6 +38,10 @@ struct RenderSettings {
   int shadow_max_steps = 96;
   float max_step = 4.0f;         // fine voxels
   int samples = 16;              // accumulation frames (sub-pixel and shadow-origin jitter each)
+  // Fine-SDF updates per render, one in each of the first accumulation frames
+  // (0: every frame). A static frame's field is near converged after a few;
+  // the later frames only refine the anti-aliasing and the shadow jitter.
+  int sdf_updates = 0;
   // Keep the fine SDF of the previous render (same grid) and go on accumulating
   // it, as the paper does frame to frame; the decay forgets what moved.
   bool keep_history = false;
@@ -62,7 +67,8 @@ class Renderer {
   // returning false stops the render there (the output holds what was done).
   using Progress = std::function<bool(int, int)>;
 
-  // Renders `scene` (its SDFs are rebuilt: call again after any change).
+  // Renders `scene` (its SDFs are rebuilt: call again after any change). Sets
+  // the scene's shadow casters from find_shadow_casters(scene, lights).
   // Throws rtsdf::Error for bad sizes or settings.
   RenderOutput render(GpuScene& scene, const Camera& camera, const std::vector<Light>& lights, glm::vec3 ambient,
                       int width, int height, const RenderSettings& settings, const Progress& progress = {});
@@ -73,6 +79,7 @@ class Renderer {
   FineSdf fine_;
   GBufferPass gbuffer_;
   ShadePass shade_;
+  std::unique_ptr<vk::Image> no_casters_field_;
 };
 
 }  // namespace rtsdf

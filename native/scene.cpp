@@ -43,9 +43,16 @@ void Scene::validate() const {
 }
 
 Bounds Scene::world_bounds() const {
+  std::vector<uint32_t> all(instances.size());
+  for (uint32_t i = 0; i < all.size(); ++i) all[i] = i;
+  return world_bounds(all);
+}
+
+Bounds Scene::world_bounds(const std::vector<uint32_t>& instance_indices) const {
   const float inf = std::numeric_limits<float>::infinity();
   Bounds bounds{glm::vec3(inf), glm::vec3(-inf)};
-  for (const Instance& instance : instances) {
+  for (uint32_t i : instance_indices) {
+    const Instance& instance = instances[i];
     const Mesh& mesh = meshes[instance.mesh];
     if (mesh.indices.empty()) continue;
     for (uint32_t index : mesh.indices) {

@@ -21,6 +21,7 @@ struct Instance {
   uint32_t mesh = 0;
   glm::mat4 object_to_world{1.0f};
   glm::vec3 base_color{0.8f};  // linear RGB of the instance's material
+  bool casts_shadow = true;    // off: seen and lit, but left out of the SDFs
 };
 
 struct Bounds {
@@ -40,6 +41,8 @@ struct Scene {
   void validate() const;
   // World-space bounds of every instanced vertex; call validate() first.
   Bounds world_bounds() const;
+  // The same over some instances only (by index).
+  Bounds world_bounds(const std::vector<uint32_t>& instance_indices) const;
 };
 
 // A scene holding one mesh once, untransformed.

@@ -2,15 +2,18 @@
 #extension GL_GOOGLE_include_directive : require
 // Fine SDF, step 1: every fine texel reads the coarse SDF at its centre.
 // Texels within the band (c <= d) whose turn it is (one in K per frame) are
-// appended to the trace list; texels outside take the coarse value, as the
-// paper does.
+// appended to the trace list. Texels outside take the coarse distance, as the
+// paper does, but without the bias beta: c + beta, the distance between voxel
+// and seed centres, is off by at most half a voxel diagonal either way, where
+// c is always low. Soft shadows read this far field: penumbrae wider than the
+// band came out too dark at their outer edge with c.
 #include "shared.h"
 #include "seed_common.glsl.h"  // texel indices are packed like seeds
 
 layout(local_size_x = RTSDF_GROUP_X, local_size_y = RTSDF_GROUP_Y, local_size_z = RTSDF_GROUP_Z) in;
 layout(binding = 0, r32f) uniform readonly image3D coarse;
 layout(binding = 1, r32f) uniform writeonly image3D fine;
-layout(binding = 2, rg32f) uniform writeonly image3D hit_counts;
+layout(binding = 2, rgba32f) uniform writeonly image3D hit_counts;  // see fine_trace.comp
 layout(std430, binding = 3) buffer TraceList { uint trace_count; uint trace_texels[]; };
 layout(push_constant) uniform Push { FinePush pc; };
 
@@ -30,10 +33,11 @@ void main() {
     } else if (pc.coarse_dims.w != 0) {
       // First frame, not traced yet: start from the same upper bound a traced texel starts from.
       imageStore(fine, p, vec4(max(c + pc.params.z, 0.0)));
-      imageStore(hit_counts, p, vec4(0.0));
+      imageStore(hit_counts, p, vec4(0.0, 0.0, max(c + pc.params.z, 0.0), pc.params.w));
     }
   } else {
-    imageStore(fine, p, vec4(c));
-    imageStore(hit_counts, p, vec4(0.0));
+    float far_field = c + pc.coarse_beta.x;
+    imageStore(fine, p, vec4(far_field));
+    imageStore(hit_counts, p, vec4(0.0, 0.0, far_field, pc.params.w));
   }
 }

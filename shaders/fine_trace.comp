@@ -5,6 +5,11 @@
 //   f_t = min(alpha * f_{t-1} + (1 - alpha) * (c_t + bias), r_t)
 // with r_t the smallest distance from the texel to a triangle a ray hit. Front/back hit counts decay with alpha too; the
 // texel is inside (negative) when back faces outnumber front faces.
+// Back faces mean "inside" only on closed surfaces: behind a one-sided sheet
+// they would mark the whole band as inside, and shadows would spread from it.
+// Hits on open surfaces are not counted; instead their distance g is kept
+// apart (updated like f) and each sheet reads as a slab one fine voxel thick
+// on either side: the stored value is min(+-f, g - voxel).
 #include "shared.h"
 #include "seed_common.glsl.h"  // texel indices are packed like seeds
 
@@ -12,7 +17,7 @@ layout(local_size_x = RTSDF_TRACE_GROUP) in;
 #include "ray_trace.glsl.h"
 layout(binding = 4, r32f) uniform readonly image3D coarse;
 layout(binding = 5, r32f) uniform image3D fine;
-layout(binding = 6, rg32f) uniform image3D hit_counts;
+layout(binding = 6, rgba32f) uniform image3D hit_counts;  // front and back counts, f, g
 layout(std430, binding = 7) readonly buffer TraceList { uint trace_count; uint trace_texels[]; };
 layout(push_constant) uniform Push { FinePush pc; };
 
@@ -29,8 +34,8 @@ void main() {
 
   const int rays = pc.fine_dims.w;
   const float golden_angle = 2.39996323;
-  float nearest = pc.params.w;
-  vec2 hits = vec2(0.0);  // front, back
+  float nearest = pc.params.w, nearest_open = pc.params.w;
+  vec2 hits = vec2(0.0);  // front, back (closed surfaces only)
   for (int i = 0; i < rays; ++i) {
     float z = 1.0 - (2.0 * float(i) + 1.0) / float(rays);
     float r = sqrt(max(0.0, 1.0 - z * z));
@@ -42,17 +47,22 @@ void main() {
     if (t < pc.params.w) {
       // The exact distance to the triangle hit is still an upper bound of the
       // texel's distance, and no larger than t: minima converge much faster.
-      nearest = min(nearest, min(t, distance_to_hit(world, triangle, instance)));
-      hits += front ? vec2(1.0, 0.0) : vec2(0.0, 1.0);
+      float distance = min(t, distance_to_hit(world, triangle, instance));
+      nearest = min(nearest, distance);
+      if (on_open_surface(triangle))
+        nearest_open = min(nearest_open, distance);
+      else
+        hits += front ? vec2(1.0, 0.0) : vec2(0.0, 1.0);
     }
   }
 
   bool first_frame = pc.coarse_dims.w != 0;
   float alpha = pc.params.x;
   float target = max(c + pc.params.z, 0.0);  // params.z = 0: the paper's c_t
-  float previous = first_frame ? target : abs(imageLoad(fine, p).x);
-  vec2 counts = (first_frame ? vec2(0.0) : alpha * imageLoad(hit_counts, p).xy) + hits;
-  float f = min(alpha * previous + (1.0 - alpha) * target, nearest);
-  imageStore(hit_counts, p, vec4(counts, 0.0, 0.0));
-  imageStore(fine, p, vec4(counts.y > counts.x ? -f : f));
+  vec4 history = first_frame ? vec4(0.0, 0.0, target, pc.params.w) : imageLoad(hit_counts, p);
+  vec2 counts = alpha * history.xy + hits;
+  float f = min(alpha * history.z + (1.0 - alpha) * target, nearest);
+  float g = min(alpha * history.w + (1.0 - alpha) * pc.params.w, nearest_open);
+  imageStore(hit_counts, p, vec4(counts, f, g));
+  imageStore(fine, p, vec4(min(counts.y > counts.x ? -f : f, g - pc.fine_grid.w)));
 }

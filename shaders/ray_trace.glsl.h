@@ -103,6 +103,10 @@ float point_triangle_distance(vec3 p, vec3 a, vec3 b, vec3 c) {
   return length(p - (a + ab * (vb * denom) + ac * (vc * denom)));
 }
 
+// Whether a triangle the ray tracer hit belongs to an open surface (see
+// native/mesh_topology.h): the first corner's w is 0 there.
+bool on_open_surface(uint triangle) { return triangle_corners[3u * triangle].w < 0.5; }
+
 // World-space distance from p to a triangle the ray tracer hit.
 float distance_to_hit(vec3 p, uint triangle, uint instance) {
   mat4 m = instances[instance].object_to_world;

@@ -19,10 +19,14 @@ layout(binding = 6, rgba32f) uniform image2D accum_color;   // rgb = Combined, a
 layout(binding = 7, rg32f) uniform image2D accum_passes;    // x = Depth, y = Shadow (visibility)
 layout(push_constant) uniform Push { ShadePush pc; };
 
-// Whether a world position lies inside the fine grid (which holds all geometry).
-bool in_grid(vec3 world) {
-  vec3 q = (world - pc.fine_grid.xyz) / pc.fine_grid.w;
-  return all(greaterThanEqual(q, vec3(0.0))) && all(lessThanEqual(q, vec3(pc.fine_dims.xyz)));
+// The part [t0, t1] of the ray inside the fine grid's box, which holds every
+// shadow caster (t0 > t1: it misses the box).
+vec2 grid_span(vec3 origin, vec3 dir) {
+  vec3 lo = pc.fine_grid.xyz, hi = lo + vec3(pc.fine_dims.xyz) * pc.fine_grid.w;
+  vec3 inv = 1.0 / mix(dir, vec3(1e-20), equal(dir, vec3(0.0)));
+  vec3 a = (lo - origin) * inv, b = (hi - origin) * inv;
+  vec3 near = min(a, b), far = max(a, b);
+  return vec2(max(near.x, max(near.y, near.z)), min(far.x, min(far.y, far.z)));
 }
 
 // Trilinear sample of the fine SDF (inside the grid).
@@ -58,27 +62,40 @@ float disk_visible(float r) {
 // tan_radius = tangent of the light's angular radius (0: a hard shadow).
 // Each sample's clearance from the surfaces is compared with the light cone's
 // radius there, w = t * tan_radius (shadow_epsilon, the paper's stop distance,
-// ends hard-shadow marches; thickening soft ones by it made shadows too fat). Samples may lie inside an occluder (negative clearance),
-// so the penumbra straddles the geometric shadow edge as in Cycles, instead of
-// lying wholly outside it as with min(h / w). Between samples outside
-// surfaces, the clearance is refined by Aaltonen's triangulation.
+// ends hard-shadow marches; thickening soft ones by it made shadows too fat).
+// Samples may lie inside an occluder (negative clearance), so the penumbra
+// straddles the geometric shadow edge as in Cycles, instead of lying wholly
+// outside it as with min(h / w). Between samples outside surfaces, the
+// clearance is refined by Aaltonen's triangulation.
+// The field is signed only in the fine band: deeper inside a solid it is the
+// unsigned coarse distance. A march that goes from negative to a positive
+// value further than the step could explain (an SDF changes by at most the
+// distance moved) has entered that interior, and reads it negated until it
+// reaches the band on the far side.
 float visibility(vec3 origin, vec3 dir, float t_min, float t_max, float tan_radius, float jitter) {
   float epsilon = pc.march.x, max_step = pc.march.y;
+  // Only the part inside the grid can meet a caster: surfaces outside it (a
+  // ground the grid was not fitted to) march from where their ray enters it.
+  vec2 span = grid_span(origin, dir);
+  t_min = max(t_min, span.x);
+  t_max = min(t_max, span.y);
+  if (t_min >= t_max) return 1.0;
   // Jittered by up to one epsilon along the light each frame: with the sample
   // positions moving, step patterns (banding) average out over accumulation.
   const float t_start = t_min + jitter * epsilon;
   float t = t_start;
   float ratio = 1.0;  // smallest clearance / cone radius seen
-  float previous_h = -1.0, step = 0.0;
+  float previous_h = 0.0, step = 0.0;
+  bool deep_inside = false;
   for (int i = 0; i < pc.fine_dims.w && t < t_max; ++i) {
-    vec3 p = origin + dir * t;
-    if (!in_grid(p)) break;  // left the grid: nothing more to hit
-    float h = sdf(p);
+    float h = sdf(origin + dir * t);
+    if (h < 0.0) deep_inside = false;
+    else if (deep_inside || (i > 0 && previous_h < 0.0 && h - previous_h > step + pc.fine_grid.w)) deep_inside = true, h = -h;
     if (tan_radius <= 0.0) {
       if (h < epsilon) return 0.0;
     } else {
       float clearance = h, at = t;
-      if (previous_h > 0.0 && h > 0.0) {
+      if (i > 0 && previous_h > 0.0 && h > 0.0) {
         // Spheres of radius previous_h and h around the last two samples (step
         // apart) meet y back along the ray, d off it. Marching straight away
         // from the receiver they barely touch, back at the start: no estimate there.
@@ -108,16 +125,21 @@ void main() {
     vec3 n = imageLoad(g_normal, pixel).xyz;
     vec3 to_camera = frame.camera_position.w > 0.5 ? -frame.camera_forward.xyz : frame.camera_position.xyz - p;
     if (dot(n, to_camera) < 0.0) n = -n;  // shade the side the camera sees
-    vec3 albedo = imageLoad(g_albedo, pixel).rgb;
+    vec4 albedo_in_sdf = imageLoad(g_albedo, pixel);
+    vec3 albedo = albedo_in_sdf.rgb;
+    bool in_sdf = albedo_in_sdf.a > 0.5;
     depth = dot(p - frame.camera_position.xyz, frame.camera_forward.xyz);
     color = albedo * frame.ambient.rgb;
     float lit = 0.0, unshadowed = 0.0;
     float jitter = hash(uvec3(pixel, uint(pc.image.w)));
     // The march follows the ray from the shading point itself (an offset along
-    // the normal would move every shadow edge inward by offset * tan(angle));
-    // it starts where that ray is two voxels off the receiver, so the receiver
-    // does not shadow itself. A quarter-voxel nudge keeps it off the surface.
-    vec3 origin = p + n * (0.25 * pc.fine_grid.w);
+    // the normal would move every shadow edge inward by offset * tan(angle)).
+    // On a surface that is in the SDF it starts pc.march.z along the ray, so
+    // the receiver does not shadow itself; a surface left out of the SDF (a
+    // ground that cannot shadow anything) starts at once, so contact shadows
+    // reach the objects resting on it. A quarter-voxel nudge keeps a caster's
+    // march off its own surface.
+    vec3 origin = in_sdf ? p + n * (0.25 * pc.fine_grid.w) : p;
     for (int l = 0; l < pc.image.z; ++l) {
       GpuLight light = lights[l];
       uint type = uint(light.position.w);
@@ -143,7 +165,7 @@ void main() {
       }
       float cos_surface = dot(n, dir);
       if (cos_surface <= 0.0 || dot(irradiance, irradiance) <= 0.0) continue;
-      float t_min = pc.march.z;
+      float t_min = in_sdf ? pc.march.z : 0.0;
       float v = visibility(origin, dir, t_min, t_max, tan_radius, jitter);
       vec3 direct = irradiance * cos_surface;
       color += albedo * direct * v;

@@ -76,6 +76,7 @@ struct FinePush {
   vec4 coarse_grid;   // xyz = origin, w = voxel size (world)
   vec4 params;        // x = alpha, y = trace band d (world), z = decay target bias (world), w = ray length (world)
   uvec4 schedule;     // x = interleave K (each band texel is traced every K-th frame), y = frame
+  vec4 coarse_beta;   // x = beta (world): coarse value + beta = the distance between voxel and seed centres
 };
 
 #define RTSDF_TRACE_GROUP 64
@@ -106,7 +107,7 @@ struct GBufferPush {
   vec4 base_color;
   uint first_index;
   uint base_vertex;
-  uint pad0;
+  uint in_sdf;  // 1: a shadow caster (in the SDF), 0: only a receiver
   uint pad1;
 };
 
@@ -124,7 +125,7 @@ static_assert(sizeof(FrameData) == 112, "FrameData layout");
 static_assert(sizeof(GBufferPush) == 96, "GBufferPush layout");
 static_assert(sizeof(ShadePush) == 64, "ShadePush layout");
 static_assert(sizeof(RayInstance) == 144, "RayInstance layout");
-static_assert(sizeof(FinePush) == 112, "FinePush layout");
+static_assert(sizeof(FinePush) == 128, "FinePush layout");
 static_assert(sizeof(VoxelizePush) == 96, "VoxelizePush layout");
 static_assert(sizeof(JumpFloodPush) == 16, "JumpFloodPush layout");
 static_assert(sizeof(SeedDistancePush) == 32, "SeedDistancePush layout");

@@ -15,7 +15,7 @@ class RTSDFSettings(bpy.types.PropertyGroup):
         name="Beta", default=0.5, min=0.0, max=4.0,
         description="Bias subtracted from the coarse distance, in coarse voxels: thickens surfaces")
     trace_band: FloatProperty(
-        name="Band", default=3.0, min=0.5, max=16.0,
+        name="Band", default=2.0, min=0.5, max=16.0,
         description="d: fine texels within this coarse distance (coarse voxels) are ray traced")
     decay: FloatProperty(
         name="Decay", default=0.9, min=0.0, max=0.99,
@@ -35,6 +35,10 @@ class RTSDFSettings(bpy.types.PropertyGroup):
     samples: IntProperty(
         name="Samples", default=16, min=1, max=1024,
         description="Accumulation frames for a final render (sub-pixel and shadow jitter each)")
+    sdf_updates: IntProperty(
+        name="SDF Updates", default=4, min=0, max=1024,
+        description="Fine-SDF updates in a final render, one in each of the first accumulation frames "
+                    "(0: every frame). A still frame's field is close to converged after a few")
 
     def as_dict(self):
         return {name: getattr(self, name) for name in self.__annotations__}

@@ -135,7 +135,9 @@ def extract(depsgraph):
         if mesh_index[key] is None:
             continue
         instances.append({"mesh": mesh_index[key], "matrix": np.array(instance.matrix_world, dtype=np.float32),
-                          "color": base_color(obj)})
+                          "color": base_color(obj),
+                          # Object Properties > Visibility > Ray Visibility > Shadow
+                          "casts_shadow": bool(getattr(obj, "visible_shadow", True))})
     if not instances:
         raise SceneError("Nothing to render: the scene has no objects with faces")
     camera = scene.camera.evaluated_get(depsgraph)

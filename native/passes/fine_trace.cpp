@@ -62,6 +62,7 @@ void FineTracePass::record(VkCommandBuffer cmd, const GpuScene::RayStructures& s
   push.params = glm::vec4(settings.decay, settings.trace_band * coarse_voxel, bias,
                           std::min(glm::length(extent), (settings.trace_band + 2.0f) * coarse_voxel + bias));
   push.schedule = glm::uvec4(uint32_t(settings.interleave), frame, 0u, 0u);
+  push.coarse_beta = glm::vec4(beta_world, 0.0f, 0.0f, 0.0f);
 
   vkCmdFillBuffer(cmd, trace_list.handle(), 0, sizeof(uint32_t), 0u);
   compute_barrier(cmd);

@@ -52,7 +52,10 @@ void GBufferPass::record(VkCommandBuffer cmd, const GpuScene& scene, const vk::B
   pipeline_.push_descriptors(cmd, {vk::Resource::storage_buffer(scene.positions()),
                                    vk::Resource::storage_buffer(scene.indices()), vk::Resource::storage_buffer(frame),
                                    vk::Resource::storage_buffer(scene.normals())});
-  for (const Instance& instance : scene.instances()) {
+  std::vector<uint8_t> in_sdf(scene.instances().size(), 0);
+  for (uint32_t i : scene.shadow_casters()) in_sdf[i] = 1;
+  for (size_t i = 0; i < scene.instances().size(); ++i) {
+    const Instance& instance = scene.instances()[i];
     const GpuMeshRange& mesh = scene.meshes()[instance.mesh];
     if (mesh.triangle_count == 0) continue;
     gpu::GBufferPush push{};
@@ -60,6 +63,7 @@ void GBufferPass::record(VkCommandBuffer cmd, const GpuScene& scene, const vk::B
     push.base_color = glm::vec4(instance.base_color, 1.0f);
     push.first_index = mesh.first_index;
     push.base_vertex = mesh.base_vertex;
+    push.in_sdf = in_sdf[i];
     pipeline_.push_constants(cmd, push);
     vkCmdDraw(cmd, 3 * mesh.triangle_count, 1, 0, 0);
   }

@@ -64,8 +64,8 @@ void VoxelizePass::record(VkCommandBuffer cmd, const GpuScene& scene, const Grid
     push.triangle_count = mesh.triangle_count;
     return push;
   };
-  for (const Instance& instance : scene.instances()) {
-    gpu::VoxelizePush push = push_for(instance);
+  for (uint32_t i : scene.shadow_casters()) {
+    gpu::VoxelizePush push = push_for(scene.instances()[i]);
     if (push.triangle_count == 0) continue;
     pipeline_.push_constants(cmd, push);
     vkCmdDraw(cmd, 3 * push.triangle_count, 1, 0, 0);
@@ -75,8 +75,8 @@ void VoxelizePass::record(VkCommandBuffer cmd, const GpuScene& scene, const Grid
   splat_.bind(cmd);
   splat_.push_descriptors(cmd, {vk::Resource::storage_buffer(scene.positions()),
                                 vk::Resource::storage_buffer(scene.indices()), vk::Resource::storage_image(seeds)});
-  for (const Instance& instance : scene.instances()) {
-    gpu::VoxelizePush push = push_for(instance);
+  for (uint32_t i : scene.shadow_casters()) {
+    gpu::VoxelizePush push = push_for(scene.instances()[i]);
     if (push.triangle_count == 0) continue;
     splat_.push_constants(cmd, push);
     vkCmdDispatch(cmd, vk::group_count(int(push.triangle_count), 64), 1, 1);

@@ -128,6 +128,7 @@ class Session {
       instance.mesh = d["mesh"].cast<uint32_t>();
       instance.object_to_world = mat4_of(d["matrix"]);
       if (d.contains("color")) instance.base_color = vec3_of(d["color"]);
+      instance.casts_shadow = get<bool>(d, "casts_shadow", true);
       scene.instances.push_back(instance);
     }
     std::vector<rtsdf::Light> lights;
@@ -160,10 +161,12 @@ class Session {
     settings.fine.trace_band = get<float>(settings_desc, "trace_band", settings.fine.trace_band);
     settings.fine.decay = get<float>(settings_desc, "decay", settings.fine.decay);
     settings.fine.rays_per_texel = get<int>(settings_desc, "rays_per_texel", settings.fine.rays_per_texel);
+    settings.fine.interleave = get<int>(settings_desc, "interleave", settings.fine.interleave);
     settings.shadow_epsilon = get<float>(settings_desc, "shadow_epsilon", settings.shadow_epsilon);
     settings.shadow_max_steps = get<int>(settings_desc, "shadow_max_steps", settings.shadow_max_steps);
     settings.max_step = get<float>(settings_desc, "max_step", settings.max_step);
     settings.samples = get<int>(settings_desc, "samples", settings.samples);
+    settings.sdf_updates = get<int>(settings_desc, "sdf_updates", settings.sdf_updates);
 
     // progress(done, total) -> bool: False stops the render (Blender's cancel).
     rtsdf::Renderer::Progress report;
@@ -208,8 +211,8 @@ class Session {
   }
 
  private:
-  // The same meshes (vertices, triangles) and instances of the same meshes and
-  // colours as the scene on the device: only transforms may differ.
+  // The same meshes (vertices, triangles) and instances of the same meshes,
+  // colours and shadow flags as the scene on the device: only transforms may differ.
   bool same_geometry(const rtsdf::Scene& scene) const {
     if (scene.meshes.size() != meshes_.size() || scene.instances.size() != instances_.size()) return false;
     for (size_t m = 0; m < meshes_.size(); ++m)
@@ -217,7 +220,8 @@ class Session {
           scene.meshes[m].normals != meshes_[m].normals)
         return false;
     for (size_t i = 0; i < instances_.size(); ++i)
-      if (scene.instances[i].mesh != instances_[i].mesh || scene.instances[i].base_color != instances_[i].base_color)
+      if (scene.instances[i].mesh != instances_[i].mesh || scene.instances[i].base_color != instances_[i].base_color ||
+          scene.instances[i].casts_shadow != instances_[i].casts_shadow)
         return false;
     return true;
   }
@@ -250,7 +254,7 @@ PYBIND11_MODULE(rtsdf_native, m) {
       .def("render", &Session::render, py::arg("scene"), py::arg("settings") = py::dict(),
            py::arg("progress") = py::none(), py::arg("persistent") = false,
            "Renders a scene given as plain data: meshes [{positions (N,3), indices (M,3), normals (N,3) optional}], instances "
-           "[{mesh, matrix 4x4 row-major, color}], lights [{type SUN|POINT|SPOT|AREA, position, direction, color, "
+           "[{mesh, matrix 4x4 row-major, color, casts_shadow}], lights [{type SUN|POINT|SPOT|AREA, position, direction, color, "
            "energy, angle, radius, spot_size, spot_blend}], camera {world_to_view, projection (OpenGL), "
            "orthographic}, width, height, ambient. Returns combined (H,W,4), depth, shadow (rows top to bottom) "
            "and ms. progress(done, total) is called after each accumulation frame; returning False stops. "

@@ -44,11 +44,15 @@ Profile profile(F&& visibility, double from, double step) {
 
 class RendererTest : public testing::VulkanTest {};
 
+// The ground is 40 units wide, ten times the view: it only receives shadows,
+// so it is left out of the SDF and the grid is fitted to the sphere alone (a
+// grid over the ground would have voxels of a third of a unit). Its points
+// outside the grid march from where their rays enter it.
 TEST_F(RendererTest, SpherePenumbraMatchesAnalyticWidth) {
   const float radius = 0.5f, height = 1.0f;
   const float sun_angle = 10.0f * float(M_PI) / 180.0f;
   Scene scene;
-  scene.meshes = {reference::uv_sphere({0, 0, height}, radius, 96), reference::box({-2, -2, -0.05f}, {2, 2, 0})};
+  scene.meshes = {reference::uv_sphere({0, 0, height}, radius, 96), reference::sheet({-20, -20}, {20, 20}, 0.0f)};
   scene.instances = {{0, glm::mat4(1.0f), glm::vec3(0.8f)}, {1, glm::mat4(1.0f), glm::vec3(0.8f)}};
   GpuScene gpu_scene(context(), scene);
 
@@ -97,7 +101,7 @@ TEST_F(RendererTest, SpherePenumbraMatchesAnalyticWidth) {
   EXPECT_GT(rendered(1.97), 0.95) << "lit beyond it (the analytic penumbra ends near 1.92)";
   for (double x = 1.5; x <= 1.95; x += 0.05)
     EXPECT_NEAR(rendered(x), exact(x), 0.1) << "visibility along the penumbra at x = " << x;
-  const double voxel = 4.0 / settings.fine_resolution;
+  const double voxel = 4.0 / settings.fine_resolution;  // (of a grid over the visible 4 x 4; the real one is finer)
   EXPECT_NEAR(r.x50, e.x50, voxel) << "the shadow's edge (half the sun hidden) in its place";
   EXPECT_NEAR(r.width(), e.width(), 0.25 * e.width() + voxel) << "penumbra width";
 
@@ -141,6 +145,41 @@ TEST_F(RendererTest, ProgressIsReportedAndCanStopTheRender) {
   EXPECT_EQ(out.samples_done, 2);
   // What was done is in the output: the box is covered and lit by the world.
   EXPECT_NEAR(out.combined[4 * (8 * 16 + 8)], 0.8f * 0.5f, 1e-3f);
+}
+
+}  // namespace
+}  // namespace rtsdf
+
+namespace rtsdf {
+namespace {
+
+// A box resting on a ground that only receives: its shadow starts right at
+// its foot, with no lit gap (the ground's marches start on the ground, as
+// nothing of the ground is in the SDF).
+TEST_F(RendererTest, ShadowOfAnObjectRestingOnTheGroundStartsAtItsFoot) {
+  Scene scene;
+  scene.meshes = {reference::box({-0.5f, -0.5f, 0.0f}, {0.5f, 0.5f, 1.0f}), reference::sheet({-5, -5}, {5, 5}, 0.0f)};
+  scene.instances = {{0, glm::mat4(1.0f)}, {1, glm::mat4(1.0f)}};
+  GpuScene gpu_scene(context(), scene);
+  Camera camera;  // orthographic, straight down, x and y in [-2, 2]
+  camera.world_to_view = glm::lookAt(glm::vec3(0, 0, 10), glm::vec3(0, 0, 0), glm::vec3(0, 1, 0));
+  camera.projection = glm::orthoRH_NO(-2.0f, 2.0f, -2.0f, 2.0f, 0.1f, 20.0f);
+  camera.orthographic = true;
+  Light sun;  // 45 degrees, towards +x: the shadow covers x in [0.5, 1.5] behind the box
+  sun.type = LightType::Sun;
+  sun.direction = {1.0f, 0.0f, -1.0f};
+  sun.sun_angle = 2.0f * float(M_PI) / 180.0f;
+  RenderSettings settings;
+  settings.samples = 2;
+  const int size = 128;
+  Renderer renderer(context());
+  RenderOutput out = renderer.render(gpu_scene, camera, {sun}, glm::vec3(0.0f), size, size, settings);
+  EXPECT_EQ(gpu_scene.shadow_casters(), (std::vector<uint32_t>{0})) << "only the box is in the SDF";
+  const int row = size / 2;
+  // Pixel i covers x in [-2 + 4i/size, -2 + 4(i+1)/size]: the first pixel wholly past the foot, out to x = 1.3.
+  for (int i = int(std::ceil((0.5 + 2.0) * size / 4.0)); -2.0 + 4.0 * (i + 1) / size < 1.3; ++i)
+    EXPECT_LT(out.shadow[size_t(row) * size + i], 0.1f) << "ground at x = " << -2.0 + 4.0 * (i + 0.5) / size;
+  EXPECT_GT(out.shadow[size_t(row) * size + size - 10], 0.99f) << "lit beyond the shadow";
 }
 
 }  // namespace

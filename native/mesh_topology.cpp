@@ -1,0 +1,74 @@
+#include "mesh_topology.h"
+
+#include <algorithm>
+#include <limits>
+#include <numeric>
+#include <unordered_map>
+
+namespace rtsdf {
+
+namespace {
+
+using Cell = glm::i64vec3;
+struct CellHash {
+  size_t operator()(const Cell& c) const {
+    return size_t(c.x) * 0x9E3779B97F4A7C15ull ^ size_t(c.y) * 0xC2B2AE3D27D4EB4Full ^ size_t(c.z) * 0x165667B19E3779F9ull;
+  }
+};
+
+struct DisjointSets {
+  std::vector<uint32_t> parent;
+  explicit DisjointSets(size_t n) : parent(n) { std::iota(parent.begin(), parent.end(), 0u); }
+  uint32_t find(uint32_t x) {
+    while (parent[x] != x) x = parent[x] = parent[parent[x]];
+    return x;
+  }
+  void join(uint32_t a, uint32_t b) { parent[find(a)] = find(b); }
+};
+
+}  // namespace
+
+std::vector<uint8_t> open_triangles(const Mesh& mesh) {
+  const size_t triangles = mesh.triangle_count();
+  // Vertices at the same position (to a millionth of the mesh's size, as
+  // rounding leaves seams and poles) are one vertex.
+  glm::vec3 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
+  for (const glm::vec3& p : mesh.positions) lo = glm::min(lo, p), hi = glm::max(hi, p);
+  const glm::vec3 extent = hi - lo;
+  const double cell = std::max(1e-30, 1e-6 * double(std::max(extent.x, std::max(extent.y, extent.z))));
+  std::unordered_map<Cell, uint32_t, CellHash> welded;
+  std::vector<uint32_t> vertex_id(mesh.positions.size());
+  for (size_t v = 0; v < mesh.positions.size(); ++v) {
+    const glm::dvec3 q = glm::round(glm::dvec3(mesh.positions[v] - lo) / cell);
+    vertex_id[v] = welded.emplace(Cell(q), uint32_t(welded.size())).first->second;
+  }
+
+  // Each undirected edge: how many triangles use it, and the first of them.
+  struct EdgeUse {
+    uint32_t count = 0;
+    uint32_t triangle = 0;
+  };
+  std::unordered_map<uint64_t, EdgeUse> edges;
+  edges.reserve(3 * triangles);
+  DisjointSets pieces(triangles);
+  for (uint32_t t = 0; t < triangles; ++t)
+    for (int k = 0; k < 3; ++k) {
+      uint32_t a = vertex_id[mesh.indices[3 * t + k]], b = vertex_id[mesh.indices[3 * t + (k + 1) % 3]];
+      if (a == b) continue;  // a degenerate edge joins nothing
+      if (a > b) std::swap(a, b);
+      EdgeUse& use = edges[(uint64_t(a) << 32) | b];
+      if (use.count++ == 0)
+        use.triangle = t;
+      else
+        pieces.join(t, use.triangle);
+    }
+
+  std::vector<uint8_t> open_piece(triangles, 0);
+  for (const auto& [key, use] : edges)
+    if (use.count == 1) open_piece[pieces.find(use.triangle)] = 1;
+  std::vector<uint8_t> open(triangles);
+  for (uint32_t t = 0; t < triangles; ++t) open[t] = open_piece[pieces.find(t)];
+  return open;
+}
+
+}  // namespace rtsdf

@@ -1,0 +1,25 @@
+#pragma once
+// Which instances can shadow anything. Only those go into the SDFs, and the
+// grids are fitted to them: a large ground under the objects would otherwise
+// set the voxel size, and the objects whose shadows matter would get few voxels.
+#include <cstdint>
+#include <vector>
+
+#include "lights.h"
+#include "scene.h"
+
+namespace rtsdf {
+
+// One flag per instance of `scene`: 0 for an instance that cannot occlude any
+// light from any surface, 1 otherwise. An instance is left out when
+// - its `casts_shadow` is off (Blender's object visibility "Shadow"), or
+// - it is flat (a plane, a disc, a thin slab: thickness along some direction
+//   at most 1% of its size), and every other shadow caster and every light lie
+//   on the far side of its outer face. A segment from a surface to a light then
+//   stays in that half-space and cannot pass through it: a ground under
+//   objects lit from above is such a receiver, a wall between the sun and a
+//   room is not.
+// Call scene.validate() first.
+std::vector<uint8_t> find_shadow_casters(const Scene& scene, const std::vector<Light>& lights);
+
+}  // namespace rtsdf
