@@ -39,9 +39,7 @@ std::vector<T> read_plane(const vk::Context& context, const vk::Image& image, in
 Renderer::Renderer(const vk::Context& context)
     : context_(context), coarse_(context), fine_(context), gbuffer_(context), shade_(context) {}
 
-RenderOutput Renderer::render(GpuScene& scene, const Camera& camera, const std::vector<Light>& lights,
-                              glm::vec3 ambient, int width, int height, const RenderSettings& settings,
-                              const Progress& progress) {
+void Renderer::validate(int width, int height, const RenderSettings& settings) const {
   if (width < 1 || height < 1 || width > 16384 || height > 16384)
     throw Error("image size " + std::to_string(width) + "x" + std::to_string(height) + " is out of range (1 to 16384)");
   if (settings.samples < 1 || settings.samples > 4096) throw Error("samples must be 1 to 4096");
@@ -49,20 +47,15 @@ RenderOutput Renderer::render(GpuScene& scene, const Camera& camera, const std::
   if (settings.shadow_max_steps < 1 || settings.shadow_max_steps > 4096) throw Error("shadow_max_steps must be 1 to 4096");
   if (!(settings.shadow_epsilon > 0.0f) || !(settings.max_step > 0.0f))
     throw Error("shadow_epsilon and max_step must be positive");
-  const Clock::time_point start = Clock::now();
-  RenderOutput out;
-  out.width = width;
-  out.height = height;
+}
 
-  Clock::time_point step = Clock::now();
-  // The SDFs hold only what can shadow something, on grids fitted to it.
-  scene.set_shadow_casters(find_shadow_casters(scene.scene(), lights));
-  const bool has_casters = !scene.shadow_casters().empty();
-  GridSpec fine_grid;
-  if (has_casters) {
-    const GridSpec coarse_grid = fit_grid(scene.bounds(), settings.coarse_resolution);
-    coarse_.build(scene, coarse_grid, settings.beta);
-    fine_grid = FineSdf::fit(coarse_grid, settings.fine_resolution);
+void Renderer::rebuild_sdfs(GpuScene& scene, const RenderSettings& settings) {
+  has_casters_ = !scene.shadow_casters().empty();
+  fine_updates_ = 0;
+  if (has_casters_) {
+    coarse_grid_ = fit_grid(scene.bounds(), settings.coarse_resolution);
+    coarse_.build(scene, coarse_grid_, settings.beta);
+    fine_grid_ = FineSdf::fit(coarse_grid_, settings.fine_resolution);
     if (!settings.keep_history) fine_.reset();  // (a new grid resets it anyway)
   } else if (!no_casters_field_) {
     // Nothing casts shadows: a one-texel field the shading never marches.
@@ -74,64 +67,118 @@ RenderOutput Renderer::render(GpuScene& scene, const Camera& camera, const std::
                         VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT);
     });
   }
-  const vk::Image& field = has_casters ? fine_.distance() : *no_casters_field_;
-  out.timings.coarse_ms = ms_since(step);
+}
 
-  const std::vector<gpu::GpuLight> gpu_lights = to_gpu(lights);
-  vk::Buffer light_buffer = vk::upload_buffer(context_, gpu_lights.data(), gpu_lights.size() * sizeof(gpu::GpuLight),
-                                              VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
-  vk::Buffer frame(context_, sizeof(gpu::FrameData), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, vk::Buffer::Access::HostVisible);
+void Renderer::begin(GpuScene& scene, const Camera& camera, const std::vector<Light>& lights, glm::vec3 ambient,
+                     int width, int height, const RenderSettings& settings, bool scene_changed) {
+  validate(width, height, settings);
+  const std::vector<gpu::GpuLight> gpu_lights = to_gpu(lights);  // (checks the lights first)
+  const Clock::time_point start = Clock::now();
+  timings_ = {};
+
+  // The SDFs hold only what can shadow something, on grids fitted to it.
+  const std::vector<uint32_t> casters_before = scene.shadow_casters();
+  scene.set_shadow_casters(find_shadow_casters(scene.scene(), lights));
+  if (scene_changed || scene_ != &scene || scene.shadow_casters() != casters_before ||
+      settings.coarse_resolution != settings_.coarse_resolution ||
+      settings.fine_resolution != settings_.fine_resolution || settings.beta != settings_.beta || frame_ == 0)
+    rebuild_sdfs(scene, settings);  // (otherwise the SDFs, independent of the view, stay as they are)
+  scene_ = &scene;
+  settings_ = settings;
+  timings_.coarse_ms = ms_since(start);
+
+  light_count_ = int(gpu_lights.size());
+  light_buffer_ = vk::upload_buffer(context_, gpu_lights.data(), gpu_lights.size() * sizeof(gpu::GpuLight),
+                                    VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
+  if (!frame_buffer_.handle())
+    frame_buffer_ = vk::Buffer(context_, sizeof(gpu::FrameData), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+                               vk::Buffer::Access::HostVisible);
   gbuffer_.resize(width, height);
-  const VkImageUsageFlags usage = VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
-  vk::Image accum_color = vk::Image::plane(context_, width, height, VK_FORMAT_R32G32B32A32_SFLOAT, usage);
-  vk::Image accum_passes = vk::Image::plane(context_, width, height, VK_FORMAT_R32G32_SFLOAT, usage);
-  context_.submit_and_wait([&](VkCommandBuffer cmd) {
-    for (const vk::Image* image : {&accum_color, &accum_passes})
-      vk::image_barrier(cmd, image->handle(), VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL, 0,
-                        VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT,
-                        VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT);
-  });
+  if (width != width_ || height != height_ || !accum_color_.handle()) {
+    const VkImageUsageFlags usage = VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
+    accum_color_ = vk::Image::plane(context_, width, height, VK_FORMAT_R32G32B32A32_SFLOAT, usage);
+    accum_passes_ = vk::Image::plane(context_, width, height, VK_FORMAT_R32G32_SFLOAT, usage);
+    context_.submit_and_wait([&](VkCommandBuffer cmd) {
+      for (const vk::Image* image : {&accum_color_, &accum_passes_})
+        vk::image_barrier(cmd, image->handle(), VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL, 0,
+                          VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT,
+                          VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT);
+    });
+  }
+  width_ = width;
+  height_ = height;
 
   const glm::mat4 view_to_world = glm::inverse(camera.world_to_view);
-  gpu::FrameData data{};
-  data.camera_position = glm::vec4(glm::vec3(view_to_world[3]), camera.orthographic ? 1.0f : 0.0f);
-  data.camera_forward = glm::vec4(-glm::normalize(glm::vec3(view_to_world[2])), 0.0f);
-  data.ambient = glm::vec4(ambient, 0.0f);
+  frame_data_ = {};
+  frame_data_.camera_position = glm::vec4(glm::vec3(view_to_world[3]), camera.orthographic ? 1.0f : 0.0f);
+  frame_data_.camera_forward = glm::vec4(-glm::normalize(glm::vec3(view_to_world[2])), 0.0f);
+  frame_data_.ambient = glm::vec4(ambient, 0.0f);
+  world_to_clip_ = kGlToVulkan * camera.projection * camera.world_to_view;
 
-  gpu::ShadePush push{};
-  push.fine_grid = glm::vec4(fine_grid.origin, fine_grid.voxel_size);
-  push.fine_dims = glm::ivec4(fine_grid.dims, has_casters ? settings.shadow_max_steps : 0);
-  push.march = glm::vec4(settings.shadow_epsilon * fine_grid.voxel_size, settings.max_step * fine_grid.voxel_size,
-                         1.0f * fine_grid.voxel_size, 0.0f);
+  push_ = {};
+  push_.fine_grid = glm::vec4(fine_grid_.origin, fine_grid_.voxel_size);
+  push_.fine_dims = glm::ivec4(fine_grid_.dims, has_casters_ ? settings.shadow_max_steps : 0);
+  push_.march = glm::vec4(settings.shadow_epsilon * fine_grid_.voxel_size, settings.max_step * fine_grid_.voxel_size,
+                          1.0f * fine_grid_.voxel_size, 0.0f);
+  frame_ = 0;
+  timings_.total_ms = ms_since(start);
+}
+
+void Renderer::add_frame() {
+  if (!scene_) throw Error("add_frame: call begin() first");
+  const Clock::time_point start = Clock::now();
+  if (has_casters_ && (settings_.sdf_updates == 0 || fine_updates_ < settings_.sdf_updates)) {
+    fine_.update(*scene_, coarse_, fine_grid_, settings_.fine);
+    fine_updates_++;
+  }
+  timings_.fine_ms += ms_since(start);
+
+  const Clock::time_point shading = Clock::now();
+  // Sub-pixel jitter (Halton 2,3) for anti-aliasing, averaged over frames.
+  const glm::vec2 jitter(halton(uint32_t(frame_), 2) - 0.5f, halton(uint32_t(frame_), 3) - 0.5f);
+  const glm::mat4 shift = glm::translate(glm::mat4(1.0f), glm::vec3(2.0f * jitter.x / float(width_),
+                                                                   2.0f * jitter.y / float(height_), 0.0f));
+  frame_data_.world_to_clip = shift * world_to_clip_;
+  std::memcpy(frame_buffer_.mapped(), &frame_data_, sizeof frame_data_);
+  push_.image = glm::ivec4(width_, height_, light_count_, frame_);
+  push_.march.w = 1.0f / float(frame_ + 1);
+  const vk::Image& field = has_casters_ ? fine_.distance() : *no_casters_field_;
+  context_.submit_and_wait([&](VkCommandBuffer cmd) {
+    gbuffer_.record(cmd, *scene_, frame_buffer_);
+    shade_.record(cmd, gbuffer_, field, light_buffer_, frame_buffer_, accum_color_, accum_passes_, push_);
+  });
+  timings_.shade_ms += ms_since(shading);
+  timings_.total_ms += ms_since(start);
+  frame_++;
+}
+
+RenderOutput Renderer::read(bool passes) const {
+  RenderOutput out;
+  out.width = width_;
+  out.height = height_;
+  out.timings = timings_;
+  out.samples_done = frame_;
+  if (!accum_color_.handle()) return out;
+  out.combined = read_plane<float>(context_, accum_color_, 4);
+  if (passes) {
+    std::vector<float> both = read_plane<float>(context_, accum_passes_, 2);
+    out.depth.resize(size_t(width_) * height_);
+    out.shadow.resize(size_t(width_) * height_);
+    for (size_t i = 0; i < out.depth.size(); ++i) out.depth[i] = both[2 * i], out.shadow[i] = both[2 * i + 1];
+  }
+  return out;
+}
+
+RenderOutput Renderer::render(GpuScene& scene, const Camera& camera, const std::vector<Light>& lights,
+                              glm::vec3 ambient, int width, int height, const RenderSettings& settings,
+                              const Progress& progress) {
+  const Clock::time_point start = Clock::now();
+  begin(scene, camera, lights, ambient, width, height, settings, /*scene_changed=*/true);
   for (int sample = 0; sample < settings.samples; ++sample) {
-    step = Clock::now();
-    if (has_casters && (settings.sdf_updates == 0 || sample < settings.sdf_updates))
-      fine_.update(scene, coarse_, fine_grid, settings.fine);
-    out.timings.fine_ms += ms_since(step);
-
-    step = Clock::now();
-    // Sub-pixel jitter (Halton 2,3) for anti-aliasing, averaged over samples.
-    const glm::vec2 jitter(halton(uint32_t(sample), 2) - 0.5f, halton(uint32_t(sample), 3) - 0.5f);
-    const glm::mat4 shift = glm::translate(glm::mat4(1.0f), glm::vec3(2.0f * jitter.x / float(width),
-                                                                     2.0f * jitter.y / float(height), 0.0f));
-    data.world_to_clip = shift * kGlToVulkan * camera.projection * camera.world_to_view;
-    std::memcpy(frame.mapped(), &data, sizeof data);
-    push.image = glm::ivec4(width, height, int(gpu_lights.size()), sample);
-    push.march.w = 1.0f / float(sample + 1);
-    context_.submit_and_wait([&](VkCommandBuffer cmd) {
-      gbuffer_.record(cmd, scene, frame);
-      shade_.record(cmd, gbuffer_, field, light_buffer, frame, accum_color, accum_passes, push);
-    });
-    out.timings.shade_ms += ms_since(step);
-    out.samples_done = sample + 1;
+    add_frame();
     if (progress && !progress(sample + 1, settings.samples)) break;
   }
-
-  out.combined = read_plane<float>(context_, accum_color, 4);
-  std::vector<float> passes = read_plane<float>(context_, accum_passes, 2);
-  out.depth.resize(size_t(width) * height);
-  out.shadow.resize(size_t(width) * height);
-  for (size_t i = 0; i < out.depth.size(); ++i) out.depth[i] = passes[2 * i], out.shadow[i] = passes[2 * i + 1];
+  RenderOutput out = read();
   out.timings.total_ms = ms_since(start);
   return out;
 }

@@ -73,13 +73,49 @@ class Renderer {
   RenderOutput render(GpuScene& scene, const Camera& camera, const std::vector<Light>& lights, glm::vec3 ambient,
                       int width, int height, const RenderSettings& settings, const Progress& progress = {});
 
+  // Progressive rendering, as the viewport does it: begin() starts a new
+  // accumulation (rebuilding the SDFs when `scene_changed`, or when the
+  // shadow casters or resolutions changed), then each add_frame() adds one
+  // accumulation frame: a fine-SDF update while settings.sdf_updates allows,
+  // the G-buffer and the shading. `scene` must stay alive and unchanged
+  // between begin() and the add_frame() calls.
+  void begin(GpuScene& scene, const Camera& camera, const std::vector<Light>& lights, glm::vec3 ambient, int width,
+             int height, const RenderSettings& settings, bool scene_changed);
+  void add_frame();
+  int frames() const { return frame_; }
+  // Wall times since begin().
+  const RenderTimings& timings() const { return timings_; }
+  // The accumulated image so far; the depth and shadow passes only if asked.
+  RenderOutput read(bool passes = true) const;
+
  private:
+  void validate(int width, int height, const RenderSettings& settings) const;
+  void rebuild_sdfs(GpuScene& scene, const RenderSettings& settings);
+
   const vk::Context& context_;
   CoarseSdf coarse_;
   FineSdf fine_;
   GBufferPass gbuffer_;
   ShadePass shade_;
   std::unique_ptr<vk::Image> no_casters_field_;
+
+  // The accumulation begin() set up.
+  GpuScene* scene_ = nullptr;
+  RenderSettings settings_;
+  GridSpec coarse_grid_, fine_grid_;
+  bool has_casters_ = false;
+  int width_ = 0, height_ = 0;
+  int frame_ = 0;
+  int fine_updates_ = 0;
+  RenderTimings timings_;
+  gpu::FrameData frame_data_{};
+  gpu::ShadePush push_{};
+  glm::mat4 world_to_clip_{1.0f};
+  int light_count_ = 0;
+  vk::Buffer light_buffer_;
+  vk::Buffer frame_buffer_;
+  vk::Image accum_color_;
+  vk::Image accum_passes_;
 };
 
 }  // namespace rtsdf

@@ -6,6 +6,7 @@
 #include <memory>
 
 #include "coarse_sdf.h"
+#include "exr_output.h"
 #include "renderer.h"
 #include "version.h"
 #include "vk/context.h"
@@ -96,10 +97,96 @@ rtsdf::LightType light_type(const std::string& name) {
   throw rtsdf::Error("unknown light type '" + name + "'");
 }
 
-// One Vulkan context and renderer, kept between renders (Blender's persistent data).
+rtsdf::Scene scene_of(const py::dict& scene_desc) {
+  rtsdf::Scene scene;
+  for (const py::handle& mesh_desc : scene_desc["meshes"].cast<py::list>()) {
+    py::dict d = mesh_desc.cast<py::dict>();
+    rtsdf::Mesh mesh = mesh_from_arrays(
+        d["positions"].cast<py::array_t<float, py::array::c_style | py::array::forcecast>>(),
+        d["indices"].cast<py::array_t<uint32_t, py::array::c_style | py::array::forcecast>>());
+    mesh.name = get<std::string>(d, "name", "mesh");
+    if (d.contains("normals")) {
+      auto normals = d["normals"].cast<py::array_t<float, py::array::c_style | py::array::forcecast>>();
+      if (normals.ndim() != 2 || normals.shape(1) != 3) throw rtsdf::Error("normals must have shape (N, 3)");
+      for (py::ssize_t i = 0; i < normals.shape(0); ++i)
+        mesh.normals.emplace_back(normals.at(i, 0), normals.at(i, 1), normals.at(i, 2));
+    }
+    scene.meshes.push_back(std::move(mesh));
+  }
+  for (const py::handle& instance_desc : scene_desc["instances"].cast<py::list>()) {
+    py::dict d = instance_desc.cast<py::dict>();
+    rtsdf::Instance instance;
+    instance.mesh = d["mesh"].cast<uint32_t>();
+    instance.object_to_world = mat4_of(d["matrix"]);
+    if (d.contains("color")) instance.base_color = vec3_of(d["color"]);
+    instance.casts_shadow = get<bool>(d, "casts_shadow", true);
+    scene.instances.push_back(instance);
+  }
+  return scene;
+}
+
+std::vector<rtsdf::Light> lights_of(const py::list& lights_desc) {
+  std::vector<rtsdf::Light> lights;
+  for (const py::handle& light_desc : lights_desc) {
+    py::dict d = light_desc.cast<py::dict>();
+    rtsdf::Light light;
+    light.type = light_type(d["type"].cast<std::string>());
+    light.position = vec3_of(d["position"]);
+    light.direction = vec3_of(d["direction"]);
+    light.color = vec3_of(d["color"]);
+    light.energy = d["energy"].cast<float>();
+    light.sun_angle = get<float>(d, "angle", 0.0f);
+    light.radius = get<float>(d, "radius", 0.0f);
+    light.spot_size = get<float>(d, "spot_size", 0.0f);
+    light.spot_blend = get<float>(d, "spot_blend", 0.0f);
+    lights.push_back(light);
+  }
+  return lights;
+}
+
+rtsdf::Camera camera_of(const py::dict& camera_desc) {
+  rtsdf::Camera camera;
+  camera.world_to_view = mat4_of(camera_desc["world_to_view"]);
+  camera.projection = mat4_of(camera_desc["projection"]);
+  camera.orthographic = get<bool>(camera_desc, "orthographic", false);
+  return camera;
+}
+
+rtsdf::RenderSettings settings_of(const py::dict& settings_desc) {
+  rtsdf::RenderSettings settings;
+  settings.coarse_resolution = get<int>(settings_desc, "coarse_resolution", settings.coarse_resolution);
+  settings.fine_resolution = get<int>(settings_desc, "fine_resolution", settings.fine_resolution);
+  settings.beta = get<float>(settings_desc, "beta", settings.beta);
+  settings.fine.trace_band = get<float>(settings_desc, "trace_band", settings.fine.trace_band);
+  settings.fine.decay = get<float>(settings_desc, "decay", settings.fine.decay);
+  settings.fine.rays_per_texel = get<int>(settings_desc, "rays_per_texel", settings.fine.rays_per_texel);
+  settings.fine.interleave = get<int>(settings_desc, "interleave", settings.fine.interleave);
+  settings.shadow_epsilon = get<float>(settings_desc, "shadow_epsilon", settings.shadow_epsilon);
+  settings.shadow_max_steps = get<int>(settings_desc, "shadow_max_steps", settings.shadow_max_steps);
+  settings.max_step = get<float>(settings_desc, "max_step", settings.max_step);
+  settings.samples = get<int>(settings_desc, "samples", settings.samples);
+  settings.sdf_updates = get<int>(settings_desc, "sdf_updates", settings.sdf_updates);
+  return settings;
+}
+
+py::dict timings_of(const rtsdf::RenderTimings& t) {
+  return py::dict(py::arg("sdf") = t.coarse_ms, py::arg("fine") = t.fine_ms, py::arg("shade") = t.shade_ms,
+                  py::arg("total") = t.total_ms);
+}
+
+py::array_t<float> image_of(const std::vector<float>& values, int height, int width, int channels) {
+  py::array_t<float> image = channels == 1 ? py::array_t<float>({height, width}) : py::array_t<float>({height, width, channels});
+  std::copy(values.begin(), values.end(), image.mutable_data());
+  return image;
+}
+
+// One Vulkan context kept between renders, with two renderers: one for final
+// renders (whose scene lives on with Blender's persistent data) and one for
+// the viewport (synced incrementally, accumulating progressively).
 class Session {
  public:
-  Session() : context_(std::make_unique<rtsdf::vk::Context>()), renderer_(*context_) {}
+  Session()
+      : context_(std::make_unique<rtsdf::vk::Context>()), renderer_(*context_), view_renderer_(*context_) {}
 
   std::string device() const { return context_->info().name; }
 
@@ -107,66 +194,12 @@ class Session {
   // changed since the last render, and the fine SDF's history.
   py::dict render(const py::dict& scene_desc, const py::dict& settings_desc, const py::object& progress,
                   bool persistent) {
-    rtsdf::Scene scene;
-    for (const py::handle& mesh_desc : scene_desc["meshes"].cast<py::list>()) {
-      py::dict d = mesh_desc.cast<py::dict>();
-      rtsdf::Mesh mesh = mesh_from_arrays(
-          d["positions"].cast<py::array_t<float, py::array::c_style | py::array::forcecast>>(),
-          d["indices"].cast<py::array_t<uint32_t, py::array::c_style | py::array::forcecast>>());
-      mesh.name = get<std::string>(d, "name", "mesh");
-      if (d.contains("normals")) {
-        auto normals = d["normals"].cast<py::array_t<float, py::array::c_style | py::array::forcecast>>();
-        if (normals.ndim() != 2 || normals.shape(1) != 3) throw rtsdf::Error("normals must have shape (N, 3)");
-        for (py::ssize_t i = 0; i < normals.shape(0); ++i)
-          mesh.normals.emplace_back(normals.at(i, 0), normals.at(i, 1), normals.at(i, 2));
-      }
-      scene.meshes.push_back(std::move(mesh));
-    }
-    for (const py::handle& instance_desc : scene_desc["instances"].cast<py::list>()) {
-      py::dict d = instance_desc.cast<py::dict>();
-      rtsdf::Instance instance;
-      instance.mesh = d["mesh"].cast<uint32_t>();
-      instance.object_to_world = mat4_of(d["matrix"]);
-      if (d.contains("color")) instance.base_color = vec3_of(d["color"]);
-      instance.casts_shadow = get<bool>(d, "casts_shadow", true);
-      scene.instances.push_back(instance);
-    }
-    std::vector<rtsdf::Light> lights;
-    for (const py::handle& light_desc : scene_desc["lights"].cast<py::list>()) {
-      py::dict d = light_desc.cast<py::dict>();
-      rtsdf::Light light;
-      light.type = light_type(d["type"].cast<std::string>());
-      light.position = vec3_of(d["position"]);
-      light.direction = vec3_of(d["direction"]);
-      light.color = vec3_of(d["color"]);
-      light.energy = d["energy"].cast<float>();
-      light.sun_angle = get<float>(d, "angle", 0.0f);
-      light.radius = get<float>(d, "radius", 0.0f);
-      light.spot_size = get<float>(d, "spot_size", 0.0f);
-      light.spot_blend = get<float>(d, "spot_blend", 0.0f);
-      lights.push_back(light);
-    }
-    py::dict camera_desc = scene_desc["camera"].cast<py::dict>();
-    rtsdf::Camera camera;
-    camera.world_to_view = mat4_of(camera_desc["world_to_view"]);
-    camera.projection = mat4_of(camera_desc["projection"]);
-    camera.orthographic = get<bool>(camera_desc, "orthographic", false);
+    rtsdf::Scene scene = scene_of(scene_desc);
+    std::vector<rtsdf::Light> lights = lights_of(scene_desc["lights"].cast<py::list>());
+    rtsdf::Camera camera = camera_of(scene_desc["camera"].cast<py::dict>());
     const int width = scene_desc["width"].cast<int>(), height = scene_desc["height"].cast<int>();
     const glm::vec3 ambient = vec3_of(scene_desc["ambient"]);
-
-    rtsdf::RenderSettings settings;
-    settings.coarse_resolution = get<int>(settings_desc, "coarse_resolution", settings.coarse_resolution);
-    settings.fine_resolution = get<int>(settings_desc, "fine_resolution", settings.fine_resolution);
-    settings.beta = get<float>(settings_desc, "beta", settings.beta);
-    settings.fine.trace_band = get<float>(settings_desc, "trace_band", settings.fine.trace_band);
-    settings.fine.decay = get<float>(settings_desc, "decay", settings.fine.decay);
-    settings.fine.rays_per_texel = get<int>(settings_desc, "rays_per_texel", settings.fine.rays_per_texel);
-    settings.fine.interleave = get<int>(settings_desc, "interleave", settings.fine.interleave);
-    settings.shadow_epsilon = get<float>(settings_desc, "shadow_epsilon", settings.shadow_epsilon);
-    settings.shadow_max_steps = get<int>(settings_desc, "shadow_max_steps", settings.shadow_max_steps);
-    settings.max_step = get<float>(settings_desc, "max_step", settings.max_step);
-    settings.samples = get<int>(settings_desc, "samples", settings.samples);
-    settings.sdf_updates = get<int>(settings_desc, "sdf_updates", settings.sdf_updates);
+    rtsdf::RenderSettings settings = settings_of(settings_desc);
 
     // progress(done, total) -> bool: False stops the render (Blender's cancel).
     rtsdf::Renderer::Progress report;
@@ -194,23 +227,90 @@ class Session {
       if (!persistent) gpu_scene_.reset();
     }
     py::dict result;
-    py::array_t<float> combined({height, width, 4});
-    std::copy(out.combined.begin(), out.combined.end(), combined.mutable_data());
-    py::array_t<float> depth({height, width}), shadow({height, width});
-    std::copy(out.depth.begin(), out.depth.end(), depth.mutable_data());
-    std::copy(out.shadow.begin(), out.shadow.end(), shadow.mutable_data());
-    result["combined"] = combined;  // rows top to bottom
-    result["depth"] = depth;
-    result["shadow"] = shadow;
-    result["ms"] = py::dict(py::arg("sdf") = out.timings.coarse_ms, py::arg("fine") = out.timings.fine_ms,
-                            py::arg("shade") = out.timings.shade_ms, py::arg("total") = out.timings.total_ms);
+    result["combined"] = image_of(out.combined, height, width, 4);  // rows top to bottom
+    result["depth"] = image_of(out.depth, height, width, 1);
+    result["shadow"] = image_of(out.shadow, height, width, 1);
+    result["ms"] = timings_of(out.timings);
     result["validation_messages"] = context_->validation_message_count();
     result["samples_done"] = out.samples_done;
     result["scene_reused"] = reused;
     return result;
   }
 
+  // Viewport: the whole scene (meshes and instances), after a change in what
+  // exists. Later changes come through view_set_transforms and view_set_mesh.
+  void view_sync(const py::dict& scene_desc) {
+    rtsdf::Scene scene = scene_of(scene_desc);
+    py::gil_scoped_release release;
+    view_scene_.reset();  // (frees the old one first)
+    view_scene_ = std::make_unique<rtsdf::GpuScene>(*context_, scene);
+    view_changed_ = true;
+  }
+
+  // Viewport: new transforms for every instance, in view_sync's order.
+  void view_set_transforms(const py::list& matrices) {
+    std::vector<glm::mat4> transforms;
+    for (const py::handle& m : matrices) transforms.push_back(mat4_of(m));
+    py::gil_scoped_release release;
+    scene_for_update().set_transforms(transforms);
+    view_changed_ = true;
+  }
+
+  // Viewport: new vertex positions of one mesh (same vertex count and triangles).
+  void view_set_mesh(uint32_t mesh, py::array_t<float, py::array::c_style | py::array::forcecast> positions) {
+    if (positions.ndim() != 2 || positions.shape(1) != 3) throw rtsdf::Error("positions must have shape (N, 3)");
+    std::vector<glm::vec3> points;
+    for (py::ssize_t i = 0; i < positions.shape(0); ++i)
+      points.emplace_back(positions.at(i, 0), positions.at(i, 1), positions.at(i, 2));
+    py::gil_scoped_release release;
+    scene_for_update().set_mesh_positions(mesh, points);
+    view_changed_ = true;
+  }
+
+  // Viewport: one accumulation frame of the view (camera, lights, ambient,
+  // width, height). A changed scene, view or setting starts the accumulation
+  // afresh; once settings["samples"] frames are in, nothing more is done.
+  py::dict view_draw(const py::dict& view_desc, const py::dict& settings_desc) {
+    if (!view_scene_) throw rtsdf::Error("view_draw: call view_sync first");
+    std::vector<rtsdf::Light> lights = lights_of(view_desc["lights"].cast<py::list>());
+    rtsdf::Camera camera = camera_of(view_desc["camera"].cast<py::dict>());
+    const int width = view_desc["width"].cast<int>(), height = view_desc["height"].cast<int>();
+    const glm::vec3 ambient = vec3_of(view_desc["ambient"]);
+    rtsdf::RenderSettings settings = settings_of(settings_desc);
+    settings.keep_history = true;  // the paper's frame-to-frame reuse: the decay forgets what moved
+    // What the image depends on besides the scene, to tell whether it changed.
+    const std::string key = py::repr(view_desc).cast<std::string>() + py::repr(settings_desc).cast<std::string>();
+    bool advanced = false;
+    rtsdf::RenderOutput out;
+    {
+      py::gil_scoped_release release;
+      if (view_changed_ || key != view_key_) {
+        view_renderer_.begin(*view_scene_, camera, lights, ambient, width, height, settings, view_changed_);
+        view_changed_ = false;
+        view_key_ = key;
+      }
+      if (view_renderer_.frames() < settings.samples) {
+        view_renderer_.add_frame();
+        advanced = true;
+      }
+      out = view_renderer_.read(/*passes=*/false);
+    }
+    py::dict result;
+    result["combined"] = image_of(out.combined, height, width, 4);  // rows top to bottom
+    result["frames"] = out.samples_done;
+    result["converged"] = out.samples_done >= settings.samples;
+    result["advanced"] = advanced;
+    result["ms"] = timings_of(out.timings);
+    result["validation_messages"] = context_->validation_message_count();
+    return result;
+  }
+
  private:
+  rtsdf::GpuScene& scene_for_update() {
+    if (!view_scene_) throw rtsdf::Error("call view_sync before updating the viewport's scene");
+    return *view_scene_;
+  }
+
   // The same meshes (vertices, triangles) and instances of the same meshes,
   // colours and shadow flags as the scene on the device: only transforms may differ.
   bool same_geometry(const rtsdf::Scene& scene) const {
@@ -231,6 +331,11 @@ class Session {
   std::unique_ptr<rtsdf::GpuScene> gpu_scene_;  // kept between persistent renders
   std::vector<rtsdf::Mesh> meshes_;
   std::vector<rtsdf::Instance> instances_;
+
+  rtsdf::Renderer view_renderer_;
+  std::unique_ptr<rtsdf::GpuScene> view_scene_;
+  bool view_changed_ = true;
+  std::string view_key_;
 };
 
 }  // namespace
@@ -251,6 +356,17 @@ PYBIND11_MODULE(rtsdf_native, m) {
   py::class_<Session>(m, "Session", "A Vulkan device and renderer kept between renders.")
       .def(py::init<>())
       .def_property_readonly("device", &Session::device)
+      .def("view_sync", &Session::view_sync, py::arg("scene"),
+           "Viewport: uploads the scene's meshes and instances (as render() takes them); later changes come "
+           "through view_set_transforms and view_set_mesh.")
+      .def("view_set_transforms", &Session::view_set_transforms, py::arg("matrices"),
+           "Viewport: a 4x4 matrix for every instance, in view_sync's order (only the top-level BVH is rebuilt).")
+      .def("view_set_mesh", &Session::view_set_mesh, py::arg("mesh"), py::arg("positions"),
+           "Viewport: new vertex positions (N, 3) of mesh `mesh`, same vertex count and triangles.")
+      .def("view_draw", &Session::view_draw, py::arg("view"), py::arg("settings") = py::dict(),
+           "Viewport: adds one accumulation frame of the view {camera, lights, ambient, width, height} and returns "
+           "combined (H,W,4, rows top to bottom), frames, converged, advanced and ms. Any change of scene, view or "
+           "settings starts afresh; once settings['samples'] frames are in, it does no work.")
       .def("render", &Session::render, py::arg("scene"), py::arg("settings") = py::dict(),
            py::arg("progress") = py::none(), py::arg("persistent") = false,
            "Renders a scene given as plain data: meshes [{positions (N,3), indices (M,3), normals (N,3) optional}], instances "
@@ -260,6 +376,28 @@ PYBIND11_MODULE(rtsdf_native, m) {
            "and ms. progress(done, total) is called after each accumulation frame; returning False stops. "
            "persistent=True keeps the scene on the device and the fine SDF between renders when only transforms "
            "change (Blender's persistent data); the result's scene_reused tells whether it did.");
+  m.def(
+      "write_exr",
+      [](const std::string& path, const py::dict& result) {
+        auto plane = [&](const char* name) {
+          return result[name].cast<py::array_t<float, py::array::c_style | py::array::forcecast>>();
+        };
+        auto combined = plane("combined"), depth = plane("depth"), shadow = plane("shadow");
+        if (combined.ndim() != 3 || combined.shape(2) != 4 || depth.ndim() != 2 || shadow.ndim() != 2 ||
+            depth.shape(0) != combined.shape(0) || depth.shape(1) != combined.shape(1) ||
+            shadow.shape(0) != combined.shape(0) || shadow.shape(1) != combined.shape(1))
+          throw rtsdf::Error("write_exr: combined must be (H, W, 4) and depth, shadow (H, W)");
+        rtsdf::RenderOutput out;
+        out.height = int(combined.shape(0));
+        out.width = int(combined.shape(1));
+        out.combined.assign(combined.data(), combined.data() + combined.size());
+        out.depth.assign(depth.data(), depth.data() + depth.size());
+        out.shadow.assign(shadow.data(), shadow.data() + shadow.size());
+        rtsdf::write_exr(path, out);
+      },
+      py::arg("path"), py::arg("result"),
+      "Writes a render result (Session.render's combined, depth, shadow) to an OpenEXR file: linear float "
+      "channels R, G, B, A, Z and Shadow.");
   m.def("coarse_sdf", &coarse_sdf, py::arg("positions"), py::arg("indices"), py::arg("coarse_resolution") = 64,
         py::arg("beta") = 0.5f,
         "Coarse SDF of one triangle mesh. Returns a dict with 'distance' [z, y, x] in world units, 'origin', "

@@ -298,6 +298,9 @@ uint32_t Context::memory_type(uint32_t type_bits, VkMemoryPropertyFlags flags) c
 }
 
 void Context::submit_and_wait(const std::function<void(VkCommandBuffer)>& record) const {
+  // The queue and the command pool need external synchronization: a final
+  // render and the viewport may submit from two threads.
+  std::lock_guard<std::mutex> lock(submit_mutex_);
   VkCommandBufferAllocateInfo alloc{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
   alloc.commandPool = command_pool_;
   alloc.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;

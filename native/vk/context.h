@@ -3,6 +3,7 @@
 #include <volk.h>
 
 #include <functional>
+#include <mutex>
 #include <string>
 #include <vector>
 
@@ -82,6 +83,7 @@ class Context {
   VkQueue queue_ = VK_NULL_HANDLE;
   uint32_t queue_family_ = 0;
   VkCommandPool command_pool_ = VK_NULL_HANDLE;
+  mutable std::mutex submit_mutex_;
   VkPhysicalDeviceProperties properties_{};
   VkPhysicalDeviceMemoryProperties memory_{};
   DeviceInfo info_;

@@ -5,6 +5,12 @@
 #include <cstdlib>
 #include <glm/gtc/matrix_transform.hpp>
 
+#include <ImfChannelList.h>
+#include <ImfFrameBuffer.h>
+#include <ImfHeader.h>
+#include <ImfInputFile.h>
+
+#include "exr_output.h"
 #include "reference/shapes.h"
 #include "renderer.h"
 #include "vulkan_test.h"
@@ -180,6 +186,49 @@ TEST_F(RendererTest, ShadowOfAnObjectRestingOnTheGroundStartsAtItsFoot) {
   for (int i = int(std::ceil((0.5 + 2.0) * size / 4.0)); -2.0 + 4.0 * (i + 1) / size < 1.3; ++i)
     EXPECT_LT(out.shadow[size_t(row) * size + i], 0.1f) << "ground at x = " << -2.0 + 4.0 * (i + 0.5) / size;
   EXPECT_GT(out.shadow[size_t(row) * size + size - 10], 0.99f) << "lit beyond the shadow";
+}
+
+}  // namespace
+}  // namespace rtsdf
+
+namespace rtsdf {
+namespace {
+
+TEST_F(RendererTest, WritesAllPassesToOpenExr) {
+  GpuScene scene(context(), single_mesh_scene(reference::box({-1, -1, -1}, {1, 1, 1})));
+  Camera camera;
+  camera.world_to_view = glm::lookAt(glm::vec3(3, 3, 3), glm::vec3(0), glm::vec3(0, 0, 1));
+  camera.projection = glm::perspectiveRH_NO(0.8f, 1.0f, 0.1f, 20.0f);
+  Light sun;
+  sun.direction = {-0.3f, -0.2f, -1.0f};
+  RenderSettings settings;
+  settings.samples = 1;
+  Renderer renderer(context());
+  const RenderOutput out = renderer.render(scene, camera, {sun}, glm::vec3(0.1f), 12, 8, settings);
+  const std::string path = ::testing::TempDir() + "rtsdf_passes.exr";
+  write_exr(path, out);
+
+  Imf::InputFile file(path.c_str());
+  const Imath::Box2i window = file.header().dataWindow();
+  ASSERT_EQ(window.max.x - window.min.x + 1, 12);
+  ASSERT_EQ(window.max.y - window.min.y + 1, 8);
+  std::vector<float> channels[6];
+  const char* names[6] = {"R", "G", "B", "A", "Z", "Shadow"};
+  Imf::FrameBuffer frame;
+  for (int c = 0; c < 6; ++c) {
+    ASSERT_NE(file.header().channels().findChannel(names[c]), nullptr) << names[c];
+    channels[c].resize(12 * 8);
+    frame.insert(names[c], Imf::Slice(Imf::FLOAT, (char*)channels[c].data(), sizeof(float), 12 * sizeof(float)));
+  }
+  file.setFrameBuffer(frame);
+  file.readPixels(window.min.y, window.max.y);
+  for (size_t i = 0; i < 12 * 8; ++i) {
+    for (int c = 0; c < 4; ++c) EXPECT_EQ(channels[c][i], out.combined[4 * i + c]);
+    EXPECT_EQ(channels[4][i], out.depth[i]);
+    EXPECT_EQ(channels[5][i], out.shadow[i]);
+  }
+  EXPECT_THROW(write_exr("/nonexistent-dir/x.exr", out), Error);
+  EXPECT_THROW(write_exr(path, RenderOutput{}), Error);
 }
 
 }  // namespace
