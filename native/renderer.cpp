@@ -1,5 +1,6 @@
 #include "renderer.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstring>
@@ -34,6 +35,17 @@ std::vector<T> read_plane(const vk::Context& context, const vk::Image& image, in
   return values;
 }
 
+// Whether `current` may stay the grid for casters within `bounds`: they lie
+// inside it (clear of its margin) and it is not much coarser than `tight`.
+bool grid_still_fits(const GridSpec& current, const Bounds& bounds, const GridSpec& tight, float slack) {
+  if (slack <= 0.0f) return false;
+  const float margin = float(margin_voxels(std::max(current.dims.x, std::max(current.dims.y, current.dims.z)))) *
+                       current.voxel_size;
+  const glm::vec3 lo = current.origin + margin, hi = current.origin + glm::vec3(current.dims) * current.voxel_size - margin;
+  return glm::all(glm::greaterThanEqual(bounds.lo, lo)) && glm::all(glm::lessThanEqual(bounds.hi, hi)) &&
+         current.voxel_size <= tight.voxel_size * (1.0f + 2.0f * slack);
+}
+
 }  // namespace
 
 Renderer::Renderer(const vk::Context& context)
@@ -44,16 +56,26 @@ void Renderer::validate(int width, int height, const RenderSettings& settings) c
     throw Error("image size " + std::to_string(width) + "x" + std::to_string(height) + " is out of range (1 to 16384)");
   if (settings.samples < 1 || settings.samples > 4096) throw Error("samples must be 1 to 4096");
   if (settings.sdf_updates < 0 || settings.sdf_updates > 4096) throw Error("sdf_updates must be 0 (every frame) to 4096");
+  if (!(settings.grid_slack >= 0.0f && settings.grid_slack <= 4.0f)) throw Error("grid_slack must be 0 to 4");
   if (settings.shadow_max_steps < 1 || settings.shadow_max_steps > 4096) throw Error("shadow_max_steps must be 1 to 4096");
   if (!(settings.shadow_epsilon > 0.0f) || !(settings.max_step > 0.0f))
     throw Error("shadow_epsilon and max_step must be positive");
 }
 
 void Renderer::rebuild_sdfs(GpuScene& scene, const RenderSettings& settings) {
+  const bool had_casters = has_casters_;
   has_casters_ = !scene.shadow_casters().empty();
   fine_updates_ = 0;
   if (has_casters_) {
-    coarse_grid_ = fit_grid(scene.bounds(), settings.coarse_resolution);
+    const Bounds bounds = scene.bounds();
+    const GridSpec tight = fit_grid(bounds, settings.coarse_resolution);
+    if (!(had_casters && settings.coarse_resolution == settings_.coarse_resolution &&
+          grid_still_fits(coarse_grid_, bounds, tight, settings.grid_slack))) {
+      const glm::vec3 slack = 0.5f * settings.grid_slack * bounds.extent();
+      coarse_grid_ = settings.grid_slack > 0.0f ? fit_grid(Bounds{bounds.lo - slack, bounds.hi + slack},
+                                                           settings.coarse_resolution)
+                                                : tight;
+    }
     coarse_.build(scene, coarse_grid_, settings.beta);
     fine_grid_ = FineSdf::fit(coarse_grid_, settings.fine_resolution);
     if (!settings.keep_history) fine_.reset();  // (a new grid resets it anyway)

@@ -42,6 +42,10 @@ struct RenderSettings {
   // (0: every frame). A static frame's field is near converged after a few;
   // the later frames only refine the anti-aliasing and the shadow jitter.
   int sdf_updates = 0;
+  // Room left around the shadow casters when a grid is fitted, as a share of
+  // their extent: while they stay inside it (and fill it well enough), the
+  // grid stays, and with it the fine SDF's history. 0 fits them tightly.
+  float grid_slack = 0.0f;
   // Keep the fine SDF of the previous render (same grid) and go on accumulating
   // it, as the paper does frame to frame; the decay forgets what moved.
   bool keep_history = false;

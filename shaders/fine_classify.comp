@@ -1,8 +1,8 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
 // Fine SDF, step 1: every fine texel reads the coarse SDF at its centre.
-// Texels within the band (c <= d) whose turn it is (one in K per frame) are
-// appended to the trace list. Texels outside take the coarse distance, as the
+// Texels within the band (c <= d) whose turn it is (one in K per frame, all
+// on the first frame) are appended to the trace list. Texels outside take the coarse distance, as the
 // paper does, but without the bias beta: c + beta, the distance between voxel
 // and seed centres, is off by at most half a voxel diagonal either way, where
 // c is always low. Soft shadows read this far field: penumbrae wider than the
@@ -27,7 +27,9 @@ void main() {
   if (c <= pc.params.y) {
     // A fixed pseudo-random turn per texel spreads each frame's share evenly.
     uint turn = (uint(p.x) * 73856093u) ^ (uint(p.y) * 19349663u) ^ (uint(p.z) * 83492791u);
-    if ((turn + pc.schedule.y) % pc.schedule.x == 0u) {
+    // The first frame traces every band texel: a field in which most texels
+    // were never traced has no signs, and shadows through solids come out half lit.
+    if (pc.coarse_dims.w != 0 || (turn + pc.schedule.y) % pc.schedule.x == 0u) {
       uint slot = atomicAdd(trace_count, 1u);
       trace_texels[slot] = pack_seed(p);
     } else if (pc.coarse_dims.w != 0) {

@@ -1,10 +1,19 @@
 """The RTSDF render engine: F12 and animation renders with Combined, Depth and
-Shadow passes."""
+Shadow passes, and the viewport's Rendered shading (synced incrementally,
+accumulating progressively)."""
+
+import time
 
 import bpy
+import gpu
 import numpy as np
+from gpu_extras.presets import draw_texture_2d
 
 from . import native, sync
+
+# The latest viewport frame's state (frames, converged, ms, size), for
+# scripts and tests that wait for the viewport to settle.
+last_view_draw = {}
 
 
 class RTSDFRenderEngine(bpy.types.RenderEngine):
@@ -12,8 +21,17 @@ class RTSDFRenderEngine(bpy.types.RenderEngine):
     bl_label = "RTSDF"
     bl_use_preview = False
     bl_use_postprocess = True
-    # The viewport's Rendered shading uses EEVEE until RTSDF draws it itself.
-    bl_use_eevee_viewport = True
+
+    def __init__(self):
+        self.viewport = None      # native Viewport of this engine instance (viewport instances only)
+        self.mesh_cache = {}      # mesh key -> arrays last sent
+        self.signature = None     # what a transform-only update must leave unchanged
+        self.matrices = None
+        self.texture = None
+        self.texture_frame = -1
+        self.view_error = None
+        self.last_ms = None
+        self.last_draw = None
 
     def update_render_passes(self, scene=None, renderlayer=None):
         self.register_pass(scene, renderlayer, "Combined", 4, "RGBA", "COLOR")
@@ -66,6 +84,110 @@ class RTSDFRenderEngine(bpy.types.RenderEngine):
                                    f"shading {ms['shade']:.0f} ms | total {ms['total']:.0f} ms")
         print(f"RTSDF: frame {scene.frame_current} {width}x{height} in {ms['total']:.0f} ms "
               f"(SDF {ms['sdf']:.0f}, fine {ms['fine']:.0f}, shading {ms['shade']:.0f}) on {session.device}")
+
+
+    # --- Viewport -----------------------------------------------------------
+
+    def view_update(self, context, depsgraph):
+        """Blender calls this after any change: only what changed goes to the
+        native side (new transforms, new vertex positions of deformed meshes;
+        anything else, e.g. objects added or materials changed, a new upload
+        of the meshes already read)."""
+        try:
+            self.sync_view(depsgraph)
+            self.view_error = None
+        except (sync.SceneError, RuntimeError) as e:
+            self.view_error = str(e)
+            print(f"RTSDF viewport: {e}")
+
+    def sync_view(self, depsgraph):
+        session, error = native.session()
+        if session is None:
+            raise RuntimeError(error)
+        if self.viewport is None:
+            self.viewport = session.viewport()
+        first = self.signature is None
+        stale = None if first else {update.id.original.name for update in depsgraph.updates
+                                    if isinstance(update.id, bpy.types.Object) and update.is_updated_geometry}
+        shapes_before = {key: (len(a["positions"]), a["indices"]) for key, a in self.mesh_cache.items() if a}
+        meshes, instances = sync.geometry(depsgraph, self.mesh_cache, stale)
+        signature = ([m["key"] for m in meshes],
+                     [(i["mesh"], tuple(i["color"]), i["casts_shadow"]) for i in instances])
+        matrices = [i["matrix"] for i in instances]
+        same_topology = all(m["key"] in shapes_before and shapes_before[m["key"]][0] == len(m["positions"])
+                            and np.array_equal(shapes_before[m["key"]][1], m["indices"])
+                            for m in meshes if stale is None or m["key"] in stale)
+        if first or signature != self.signature or not same_topology:
+            self.viewport.sync({"meshes": meshes, "instances": instances})
+        else:
+            for index, mesh in enumerate(meshes):
+                if mesh["key"] in stale:
+                    self.viewport.set_mesh(index, mesh["positions"])
+            if any(not np.array_equal(a, b) for a, b in zip(matrices, self.matrices)):
+                self.viewport.set_transforms(matrices)
+        self.signature, self.matrices = signature, matrices
+
+    def view_draw(self, context, depsgraph):
+        """One accumulation frame per call, at most: Blender's UI never waits
+        for more. While the image is not converged, another redraw is asked for;
+        after that the engine does nothing until something changes."""
+        scene = depsgraph.scene
+        if self.view_error is not None or self.viewport is None:
+            self.update_stats("", f"RTSDF: {self.view_error or 'no scene'}")
+            return
+        region = context.region
+        settings = scene.rtsdf
+        width = max(1, round(region.width * settings.viewport_scale))
+        height = max(1, round(region.height * settings.viewport_scale))
+        options = settings.as_dict()
+        # Room around the casters: an object moving a little keeps the grid and the fine SDF's history.
+        options.update(samples=settings.viewport_samples, sdf_updates=0, interleave=settings.viewport_interleave,
+                       grid_slack=0.2)
+        try:
+            out = self.viewport.draw(sync.view_data(depsgraph, context.region_data, width, height), options)
+        except RuntimeError as e:
+            self.view_error = str(e)
+            self.update_stats("", f"RTSDF: {e}")
+            print(f"RTSDF viewport: {e}")
+            return
+
+        if self.texture is None or out["advanced"] or self.texture.width != width or self.texture.height != height:
+            # Blender's textures start at the bottom row.
+            pixels = np.flipud(out["combined"]).astype(np.float32)
+            if not scene.render.film_transparent:
+                pixels[..., 3] = 1.0
+            buffer = gpu.types.Buffer("FLOAT", width * height * 4, pixels.ravel())
+            self.texture = gpu.types.GPUTexture((width, height), format="RGBA16F", data=buffer)
+
+        gpu.state.blend_set("ALPHA_PREMULT")
+        self.bind_display_space_shader(scene)
+        draw_texture_2d(self.texture, (0, 0), region.width, region.height)
+        self.unbind_display_space_shader()
+        gpu.state.blend_set("NONE")
+
+        self.report_view_stats(out, settings.viewport_samples)
+        last_view_draw.update(frames=out["frames"], converged=out["converged"], ms=dict(self.last_draw or out["ms"]),
+                              width=width, height=height, time=time.perf_counter(),
+                              validation_messages=out["validation_messages"])
+        if not out["converged"]:
+            self.tag_redraw()
+
+    def report_view_stats(self, out, samples):
+        """Per-stage milliseconds in the viewport's text info: the SDF rebuild
+        after the latest change, fine update and shading of the latest frame."""
+        ms = out["ms"]
+        if out["advanced"]:
+            if out["frames"] == 1 or self.last_ms is None:
+                frame_ms = dict(ms)
+            else:
+                frame_ms = {k: ms[k] - self.last_ms.get(k, 0.0) for k in ms}
+            frame_ms["sdf"] = ms["sdf"]  # (built once per change, in the first frame)
+            self.last_draw = frame_ms
+            self.last_ms = dict(ms)
+        frame_ms = self.last_draw or ms
+        state = "converged" if out["converged"] else f"frame {out['frames']}/{samples}"
+        self.update_stats("", f"RTSDF {state} | SDF {frame_ms['sdf']:.0f} ms | fine {frame_ms['fine']:.0f} ms | "
+                              f"shading {frame_ms['shade']:.0f} ms")
 
 
 classes = (RTSDFRenderEngine,)

@@ -40,6 +40,17 @@ class RTSDFSettings(bpy.types.PropertyGroup):
         description="Fine-SDF updates in a final render, one in each of the first accumulation frames "
                     "(0: every frame). A still frame's field is close to converged after a few")
 
+    viewport_samples: IntProperty(
+        name="Viewport Samples", default=16, min=1, max=1024,
+        description="Accumulation frames in the viewport; after these the viewport stops working until something changes")
+    viewport_scale: FloatProperty(
+        name="Viewport Scale", default=0.5, min=0.1, max=1.0, subtype="FACTOR",
+        description="Viewport rendering resolution relative to the region (rendered smaller, then scaled up)")
+    viewport_interleave: IntProperty(
+        name="Viewport Interleave", default=4, min=1, max=16,
+        description="Each fine-SDF texel is traced every K-th viewport frame: K times less work per frame, "
+                    "K times as many frames to converge")
+
     def as_dict(self):
         return {name: getattr(self, name) for name in self.__annotations__}
 

@@ -111,24 +111,27 @@ def camera_data(depsgraph, camera, width, height):
     }
 
 
-def extract(depsgraph):
-    """The scene as the native renderer takes it; raises SceneError for what it cannot render."""
-    scene = depsgraph.scene
-    if scene.camera is None:
-        raise SceneError("The scene has no camera")
-    width, height = render_size(scene)
-    meshes, instances, lights, mesh_index = [], [], [], {}
+def geometry(depsgraph, cache=None, stale=None):
+    """(meshes, instances) as the native module takes them. With `cache` (a
+    dict kept by the caller, mesh key -> arrays), a mesh whose key is not in
+    `stale` (a set; None: all stale) is taken from the cache instead of being
+    read again. Each mesh dict carries its "key"."""
+    meshes, instances, mesh_index = [], [], {}
     for instance in depsgraph.object_instances:
         obj = instance.object
-        if obj.type == "LIGHT":
-            lights.append(light_data(obj.data, instance.matrix_world))
-            continue
         if obj.type not in GEOMETRY_TYPES:
             continue
         # Instances of one object share its triangles; only their transforms differ.
         key = obj.original.name if instance.is_instance else obj.name
         if key not in mesh_index:
-            arrays = mesh_arrays(obj)
+            if cache is not None and key in cache and stale is not None and key not in stale:
+                arrays = cache[key]
+            else:
+                arrays = mesh_arrays(obj)
+                if arrays is not None:
+                    arrays["key"] = key
+                if cache is not None:
+                    cache[key] = arrays
             mesh_index[key] = None if arrays is None else len(meshes)
             if arrays is not None:
                 meshes.append(arrays)
@@ -140,13 +143,45 @@ def extract(depsgraph):
                           "casts_shadow": bool(getattr(obj, "visible_shadow", True))})
     if not instances:
         raise SceneError("Nothing to render: the scene has no objects with faces")
+    return meshes, instances
+
+
+def lights(depsgraph):
+    return [light_data(instance.object.data, instance.matrix_world)
+            for instance in depsgraph.object_instances if instance.object.type == "LIGHT"]
+
+
+def extract(depsgraph):
+    """The scene as the native renderer takes it; raises SceneError for what it cannot render."""
+    scene = depsgraph.scene
+    if scene.camera is None:
+        raise SceneError("The scene has no camera")
+    width, height = render_size(scene)
+    meshes, instances = geometry(depsgraph)
     camera = scene.camera.evaluated_get(depsgraph)
     return {
         "meshes": meshes,
         "instances": instances,
-        "lights": lights,
+        "lights": lights(depsgraph),
         "camera": camera_data(depsgraph, camera, width, height),
         "width": width,
         "height": height,
         "ambient": world_color(scene),
+    }
+
+
+def view_data(depsgraph, region_data, width, height):
+    """What a viewport draw needs besides the scene: the view's camera (as the
+    region draws it: perspective, orthographic, or the camera view with its
+    zoom and offset), lights, world colour and size."""
+    return {
+        "camera": {
+            "world_to_view": np.array(region_data.view_matrix, dtype=np.float32),
+            "projection": np.array(region_data.window_matrix, dtype=np.float32),
+            "orthographic": not region_data.is_perspective,
+        },
+        "lights": lights(depsgraph),
+        "ambient": world_color(depsgraph.scene),
+        "width": width,
+        "height": height,
     }

@@ -29,7 +29,8 @@ class RTSDF_PT_settings(bpy.types.Panel):
         sections = (("Resolution", ("coarse_resolution", "fine_resolution")),
                     ("Fine SDF", ("beta", "trace_band", "decay", "rays_per_texel")),
                     ("Shadows", ("shadow_epsilon", "shadow_max_steps", "max_step")),
-                    ("Render", ("samples", "sdf_updates")))
+                    ("Render", ("samples", "sdf_updates")),
+                    ("Viewport", ("viewport_samples", "viewport_scale", "viewport_interleave")))
         for heading, names in sections:
             column = layout.column(align=True, heading=heading)
             for name in names:

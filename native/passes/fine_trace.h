@@ -14,8 +14,8 @@ struct FineTraceSettings {
   float decay = 0.9f;           // alpha
   int rays_per_texel = 8;
   // Each band texel is traced every `interleave`-th frame (frameless-rendering
-  // style): per-frame work drops K-fold, convergence and recovery take K times
-  // as many frames.
+  // style), after a first frame that traces them all: per-frame work drops
+  // K-fold, convergence and recovery take K times as many frames.
   int interleave = 1;
   // Added to c_t where the texel decays towards it. 0 gives the paper's update;
   // the default (beta + half a coarse voxel diagonal) is an upper bound of the

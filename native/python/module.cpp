@@ -166,6 +166,7 @@ rtsdf::RenderSettings settings_of(const py::dict& settings_desc) {
   settings.max_step = get<float>(settings_desc, "max_step", settings.max_step);
   settings.samples = get<int>(settings_desc, "samples", settings.samples);
   settings.sdf_updates = get<int>(settings_desc, "sdf_updates", settings.sdf_updates);
+  settings.grid_slack = get<float>(settings_desc, "grid_slack", settings.grid_slack);
   return settings;
 }
 
@@ -180,13 +181,100 @@ py::array_t<float> image_of(const std::vector<float>& values, int height, int wi
   return image;
 }
 
-// One Vulkan context kept between renders, with two renderers: one for final
-// renders (whose scene lives on with Blender's persistent data) and one for
-// the viewport (synced incrementally, accumulating progressively).
+// A viewport's own scene and renderer on a session's device: synced
+// incrementally, accumulating progressively.
+class Viewport {
+ public:
+  explicit Viewport(std::shared_ptr<rtsdf::vk::Context> context) : context_(std::move(context)), renderer_(*context_) {}
+
+  // the whole scene (meshes and instances), after a change in what
+  // exists. Later changes come through set_transforms and set_mesh.
+  void sync(const py::dict& scene_desc) {
+    rtsdf::Scene scene = scene_of(scene_desc);
+    py::gil_scoped_release release;
+    scene_.reset();  // (frees the old one first)
+    scene_ = std::make_unique<rtsdf::GpuScene>(*context_, scene);
+    changed_ = true;
+  }
+
+  // new transforms for every instance, in sync's order.
+  void set_transforms(const py::list& matrices) {
+    std::vector<glm::mat4> transforms;
+    for (const py::handle& m : matrices) transforms.push_back(mat4_of(m));
+    py::gil_scoped_release release;
+    scene_for_update().set_transforms(transforms);
+    changed_ = true;
+  }
+
+  // new vertex positions of one mesh (same vertex count and triangles).
+  void set_mesh(uint32_t mesh, py::array_t<float, py::array::c_style | py::array::forcecast> positions) {
+    if (positions.ndim() != 2 || positions.shape(1) != 3) throw rtsdf::Error("positions must have shape (N, 3)");
+    std::vector<glm::vec3> points;
+    for (py::ssize_t i = 0; i < positions.shape(0); ++i)
+      points.emplace_back(positions.at(i, 0), positions.at(i, 1), positions.at(i, 2));
+    py::gil_scoped_release release;
+    scene_for_update().set_mesh_positions(mesh, points);
+    changed_ = true;
+  }
+
+  // one accumulation frame of the view (camera, lights, ambient,
+  // width, height). A changed scene, view or setting starts the accumulation
+  // afresh; once settings["samples"] frames are in, nothing more is done.
+  py::dict draw(const py::dict& view_desc, const py::dict& settings_desc) {
+    if (!scene_) throw rtsdf::Error("draw: call sync first");
+    std::vector<rtsdf::Light> lights = lights_of(view_desc["lights"].cast<py::list>());
+    rtsdf::Camera camera = camera_of(view_desc["camera"].cast<py::dict>());
+    const int width = view_desc["width"].cast<int>(), height = view_desc["height"].cast<int>();
+    const glm::vec3 ambient = vec3_of(view_desc["ambient"]);
+    rtsdf::RenderSettings settings = settings_of(settings_desc);
+    settings.keep_history = true;  // the paper's frame-to-frame reuse: the decay forgets what moved
+    // What the image depends on besides the scene, to tell whether it changed.
+    const std::string key = py::repr(view_desc).cast<std::string>() + py::repr(settings_desc).cast<std::string>();
+    bool advanced = false;
+    rtsdf::RenderOutput out;
+    {
+      py::gil_scoped_release release;
+      if (changed_ || key != key_) {
+        renderer_.begin(*scene_, camera, lights, ambient, width, height, settings, changed_);
+        changed_ = false;
+        key_ = key;
+      }
+      if (renderer_.frames() < settings.samples) {
+        renderer_.add_frame();
+        advanced = true;
+      }
+      out = renderer_.read(/*passes=*/false);
+    }
+    py::dict result;
+    result["combined"] = image_of(out.combined, height, width, 4);  // rows top to bottom
+    result["frames"] = out.samples_done;
+    result["converged"] = out.samples_done >= settings.samples;
+    result["advanced"] = advanced;
+    result["ms"] = timings_of(out.timings);
+    result["validation_messages"] = context_->validation_message_count();
+    return result;
+  }
+
+ private:
+  rtsdf::GpuScene& scene_for_update() {
+    if (!scene_) throw rtsdf::Error("call sync before updating the viewport's scene");
+    return *scene_;
+  }
+
+  std::shared_ptr<rtsdf::vk::Context> context_;  // (declared first: destroyed last)
+  rtsdf::Renderer renderer_;
+  std::unique_ptr<rtsdf::GpuScene> scene_;
+  bool changed_ = true;
+  std::string key_;
+};
+
+// One Vulkan context kept between renders. Final renders keep their scene
+// with Blender's persistent data; each viewport gets its own Viewport.
 class Session {
  public:
-  Session()
-      : context_(std::make_unique<rtsdf::vk::Context>()), renderer_(*context_), view_renderer_(*context_) {}
+  Session() : context_(std::make_shared<rtsdf::vk::Context>()), renderer_(*context_) {}
+
+  std::unique_ptr<Viewport> viewport() const { return std::make_unique<Viewport>(context_); }
 
   std::string device() const { return context_->info().name; }
 
@@ -237,80 +325,7 @@ class Session {
     return result;
   }
 
-  // Viewport: the whole scene (meshes and instances), after a change in what
-  // exists. Later changes come through view_set_transforms and view_set_mesh.
-  void view_sync(const py::dict& scene_desc) {
-    rtsdf::Scene scene = scene_of(scene_desc);
-    py::gil_scoped_release release;
-    view_scene_.reset();  // (frees the old one first)
-    view_scene_ = std::make_unique<rtsdf::GpuScene>(*context_, scene);
-    view_changed_ = true;
-  }
-
-  // Viewport: new transforms for every instance, in view_sync's order.
-  void view_set_transforms(const py::list& matrices) {
-    std::vector<glm::mat4> transforms;
-    for (const py::handle& m : matrices) transforms.push_back(mat4_of(m));
-    py::gil_scoped_release release;
-    scene_for_update().set_transforms(transforms);
-    view_changed_ = true;
-  }
-
-  // Viewport: new vertex positions of one mesh (same vertex count and triangles).
-  void view_set_mesh(uint32_t mesh, py::array_t<float, py::array::c_style | py::array::forcecast> positions) {
-    if (positions.ndim() != 2 || positions.shape(1) != 3) throw rtsdf::Error("positions must have shape (N, 3)");
-    std::vector<glm::vec3> points;
-    for (py::ssize_t i = 0; i < positions.shape(0); ++i)
-      points.emplace_back(positions.at(i, 0), positions.at(i, 1), positions.at(i, 2));
-    py::gil_scoped_release release;
-    scene_for_update().set_mesh_positions(mesh, points);
-    view_changed_ = true;
-  }
-
-  // Viewport: one accumulation frame of the view (camera, lights, ambient,
-  // width, height). A changed scene, view or setting starts the accumulation
-  // afresh; once settings["samples"] frames are in, nothing more is done.
-  py::dict view_draw(const py::dict& view_desc, const py::dict& settings_desc) {
-    if (!view_scene_) throw rtsdf::Error("view_draw: call view_sync first");
-    std::vector<rtsdf::Light> lights = lights_of(view_desc["lights"].cast<py::list>());
-    rtsdf::Camera camera = camera_of(view_desc["camera"].cast<py::dict>());
-    const int width = view_desc["width"].cast<int>(), height = view_desc["height"].cast<int>();
-    const glm::vec3 ambient = vec3_of(view_desc["ambient"]);
-    rtsdf::RenderSettings settings = settings_of(settings_desc);
-    settings.keep_history = true;  // the paper's frame-to-frame reuse: the decay forgets what moved
-    // What the image depends on besides the scene, to tell whether it changed.
-    const std::string key = py::repr(view_desc).cast<std::string>() + py::repr(settings_desc).cast<std::string>();
-    bool advanced = false;
-    rtsdf::RenderOutput out;
-    {
-      py::gil_scoped_release release;
-      if (view_changed_ || key != view_key_) {
-        view_renderer_.begin(*view_scene_, camera, lights, ambient, width, height, settings, view_changed_);
-        view_changed_ = false;
-        view_key_ = key;
-      }
-      if (view_renderer_.frames() < settings.samples) {
-        view_renderer_.add_frame();
-        advanced = true;
-      }
-      out = view_renderer_.read(/*passes=*/false);
-    }
-    py::dict result;
-    result["combined"] = image_of(out.combined, height, width, 4);  // rows top to bottom
-    result["frames"] = out.samples_done;
-    result["converged"] = out.samples_done >= settings.samples;
-    result["advanced"] = advanced;
-    result["ms"] = timings_of(out.timings);
-    result["validation_messages"] = context_->validation_message_count();
-    return result;
-  }
-
  private:
-  rtsdf::GpuScene& scene_for_update() {
-    if (!view_scene_) throw rtsdf::Error("call view_sync before updating the viewport's scene");
-    return *view_scene_;
-  }
-
   // The same meshes (vertices, triangles) and instances of the same meshes,
   // colours and shadow flags as the scene on the device: only transforms may differ.
   bool same_geometry(const rtsdf::Scene& scene) const {
@@ -326,16 +341,11 @@ class Session {
     return true;
   }
 
-  std::unique_ptr<rtsdf::vk::Context> context_;
+  std::shared_ptr<rtsdf::vk::Context> context_;
   rtsdf::Renderer renderer_;
   std::unique_ptr<rtsdf::GpuScene> gpu_scene_;  // kept between persistent renders
   std::vector<rtsdf::Mesh> meshes_;
   std::vector<rtsdf::Instance> instances_;
-
-  rtsdf::Renderer view_renderer_;
-  std::unique_ptr<rtsdf::GpuScene> view_scene_;
-  bool view_changed_ = true;
-  std::string view_key_;
 };
 
 }  // namespace
@@ -353,20 +363,22 @@ PYBIND11_MODULE(rtsdf_native, m) {
     rtsdf::vk::Context context;
     return describe(context.info());
   }, "The device RTSDF would use (honours RTSDF_DEVICE).");
+  py::class_<Viewport>(m, "Viewport", "A viewport's scene and progressive renderer (Session.viewport()).")
+      .def("sync", &Viewport::sync, py::arg("scene"),
+           "Uploads the scene's meshes and instances (as Session.render takes them); later changes come through "
+           "set_transforms and set_mesh.")
+      .def("set_transforms", &Viewport::set_transforms, py::arg("matrices"),
+           "A 4x4 matrix for every instance, in sync's order (only the top-level BVH is rebuilt).")
+      .def("set_mesh", &Viewport::set_mesh, py::arg("mesh"), py::arg("positions"),
+           "New vertex positions (N, 3) of mesh `mesh`, same vertex count and triangles.")
+      .def("draw", &Viewport::draw, py::arg("view"), py::arg("settings") = py::dict(),
+           "Adds one accumulation frame of the view {camera, lights, ambient, width, height} and returns combined "
+           "(H,W,4, rows top to bottom), frames, converged, advanced and ms. Any change of scene, view or settings "
+           "starts afresh; once settings['samples'] frames are in, it does no work.");
   py::class_<Session>(m, "Session", "A Vulkan device and renderer kept between renders.")
       .def(py::init<>())
       .def_property_readonly("device", &Session::device)
-      .def("view_sync", &Session::view_sync, py::arg("scene"),
-           "Viewport: uploads the scene's meshes and instances (as render() takes them); later changes come "
-           "through view_set_transforms and view_set_mesh.")
-      .def("view_set_transforms", &Session::view_set_transforms, py::arg("matrices"),
-           "Viewport: a 4x4 matrix for every instance, in view_sync's order (only the top-level BVH is rebuilt).")
-      .def("view_set_mesh", &Session::view_set_mesh, py::arg("mesh"), py::arg("positions"),
-           "Viewport: new vertex positions (N, 3) of mesh `mesh`, same vertex count and triangles.")
-      .def("view_draw", &Session::view_draw, py::arg("view"), py::arg("settings") = py::dict(),
-           "Viewport: adds one accumulation frame of the view {camera, lights, ambient, width, height} and returns "
-           "combined (H,W,4, rows top to bottom), frames, converged, advanced and ms. Any change of scene, view or "
-           "settings starts afresh; once settings['samples'] frames are in, it does no work.")
+      .def("viewport", &Session::viewport, "A new viewport (its own scene and accumulation) on this device.")
       .def("render", &Session::render, py::arg("scene"), py::arg("settings") = py::dict(),
            py::arg("progress") = py::none(), py::arg("persistent") = false,
            "Renders a scene given as plain data: meshes [{positions (N,3), indices (M,3), normals (N,3) optional}], instances "
