@@ -142,7 +142,7 @@ class RTSDFRenderEngine(bpy.types.RenderEngine):
         options = settings.as_dict()
         # Room around the casters: an object moving a little keeps the grid and the fine SDF's history.
         options.update(samples=settings.viewport_samples, sdf_updates=0, interleave=settings.viewport_interleave,
-                       grid_slack=0.2)
+                       grid_slack=0.5)
         try:
             out = self.viewport.draw(sync.view_data(depsgraph, context.region_data, width, height), options)
         except RuntimeError as e:
@@ -168,7 +168,7 @@ class RTSDFRenderEngine(bpy.types.RenderEngine):
         self.report_view_stats(out, settings.viewport_samples)
         last_view_draw.update(frames=out["frames"], converged=out["converged"], ms=dict(self.last_draw or out["ms"]),
                               width=width, height=height, time=time.perf_counter(),
-                              validation_messages=out["validation_messages"])
+                              validation_messages=out["validation_messages"], draw_ms=out["draw_ms"])
         if not out["converged"]:
             self.tag_redraw()
 

@@ -3,6 +3,8 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <array>
+#include <chrono>
 #include <memory>
 
 #include "coarse_sdf.h"
@@ -232,24 +234,34 @@ class Viewport {
     const std::string key = py::repr(view_desc).cast<std::string>() + py::repr(settings_desc).cast<std::string>();
     bool advanced = false;
     rtsdf::RenderOutput out;
+    std::array<double, 3> draw_ms{};  // begin, frame, read
     {
       py::gil_scoped_release release;
+      using Clock = std::chrono::steady_clock;
+      auto t0 = Clock::now();
       if (changed_ || key != key_) {
         renderer_.begin(*scene_, camera, lights, ambient, width, height, settings, changed_);
         changed_ = false;
         key_ = key;
       }
+      auto t1 = Clock::now();
       if (renderer_.frames() < settings.samples) {
         renderer_.add_frame();
         advanced = true;
       }
+      auto t2 = Clock::now();
       out = renderer_.read(/*passes=*/false);
+      auto t3 = Clock::now();
+      auto ms = [](Clock::time_point a, Clock::time_point b) { return std::chrono::duration<double, std::milli>(b - a).count(); };
+      draw_ms = {ms(t0, t1), ms(t1, t2), ms(t2, t3)};
     }
     py::dict result;
     result["combined"] = image_of(out.combined, height, width, 4);  // rows top to bottom
     result["frames"] = out.samples_done;
     result["converged"] = out.samples_done >= settings.samples;
     result["advanced"] = advanced;
+    // Wall time of this call: starting afresh (SDF rebuild after a change), the frame, the read-back.
+    result["draw_ms"] = py::dict(py::arg("begin") = draw_ms[0], py::arg("frame") = draw_ms[1], py::arg("read") = draw_ms[2]);
     result["ms"] = timings_of(out.timings);
     result["validation_messages"] = context_->validation_message_count();
     return result;

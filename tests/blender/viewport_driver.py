@@ -201,16 +201,20 @@ def steps():
     def frame_changes(engine_name):
         scene.render.engine = engine_name
         yield 1.0
-        times, memory = [], []
+        times, memory, draws = [], [], []
         for f in range(1, FRAMES + 1):
             start = time.perf_counter()
             scene.frame_set(f)
             with bpy.context.temp_override(window=window, area=area, region=region):
                 bpy.ops.wm.redraw_timer(type="DRAW", iterations=1)
             times.append(time.perf_counter() - start)
+            if engine_name == "RTSDF":
+                draws.append(dict(rtsdf_engine.last_view_draw.get("draw_ms", {})))
             memory.append(rss_mib())
             if f % 10 == 0:
                 yield 0.0
+        if draws:
+            results["draw_ms_median"] = {k: float(np.median([d.get(k, 0.0) for d in draws])) for k in draws[-1]}
         return times, memory
 
     times, memory = yield from frame_changes("RTSDF")
