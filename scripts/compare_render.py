@@ -22,12 +22,25 @@ import sys
 import tempfile
 import time
 
+import importlib.util
+
 import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
-from skimage.metrics import structural_similarity  # noqa: E402
+
+
+def load_metrics():
+    """The add-on's figures (addon/rtsdf/metrics.py: no bpy), shared with the compare operator and bench/run."""
+    path = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "addon", "rtsdf", "metrics.py")
+    spec = importlib.util.spec_from_file_location("rtsdf_metrics", path)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+metrics = load_metrics()
 
 # Runs inside Blender: sets up the engine and writes a float EXR of the frame.
 BLENDER_SIDE = r"""
@@ -85,12 +98,6 @@ def load(path):
     return np.load(npy)
 
 
-def to_display(linear):
-    """Linear -> sRGB for viewing (the figures are computed on linear values)."""
-    c = np.clip(linear, 0.0, 1.0)
-    return np.where(c <= 0.0031308, 12.92 * c, 1.055 * np.power(c, 1 / 2.4) - 0.055)
-
-
 def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("scene")
@@ -119,22 +126,18 @@ def main():
     rtsdf, cycles, unshadowed = load(path("rtsdf")), load(path("cycles")), load(path("cycles_unshadowed"))
 
     difference = np.abs(rtsdf - cycles).mean(axis=-1)
-    rmse = float(np.sqrt(np.mean((rtsdf - cycles) ** 2)))
-    gray = lambda a: to_display(a).mean(axis=-1)  # noqa: E731
-    ssim = float(structural_similarity(gray(rtsdf), gray(cycles), data_range=1.0))
-    visibility = cycles.mean(axis=-1) / np.maximum(unshadowed.mean(axis=-1), 1e-4)
-    shadowed = visibility < 0.98
-    shadow_rmse = float(np.sqrt(np.mean((rtsdf[shadowed] - cycles[shadowed]) ** 2))) if shadowed.any() else 0.0
-    figures = {"scene": args.scene, "frame": args.frame, "settings": args.set, "rmse": rmse, "ssim": ssim, "shadow_rmse": shadow_rmse,
-               "shadow_pixels": int(shadowed.sum()), "rtsdf_seconds": rtsdf_s, "cycles_seconds": cycles_s,
+    figures = {"scene": args.scene, "frame": args.frame, "settings": args.set,
+               **metrics.compare(rtsdf, cycles, unshadowed),
+               "rtsdf_seconds": rtsdf_s, "cycles_seconds": cycles_s,
                "cycles_samples": args.cycles_samples, "time_ratio_cycles_over_rtsdf": cycles_s / rtsdf_s}
+    rmse, ssim, shadow_rmse = figures["rmse"], figures["ssim"], figures["shadow_rmse"]
     with open(os.path.join(args.out, f"{name}_figures.json"), "w") as f:
         json.dump(figures, f, indent=2)
 
     fig, axes = plt.subplots(1, 3, figsize=(18, 18 * rtsdf.shape[0] / rtsdf.shape[1] / 3 + 1.2))
-    axes[0].imshow(to_display(rtsdf))
+    axes[0].imshow(metrics.to_display(rtsdf))
     axes[0].set_title(f"RTSDF ({rtsdf_s:.1f} s whole run)")
-    axes[1].imshow(to_display(cycles))
+    axes[1].imshow(metrics.to_display(cycles))
     axes[1].set_title(f"Cycles, {args.cycles_samples} samples, direct light ({cycles_s:.1f} s)")
     image = axes[2].imshow(difference, cmap="inferno", vmin=0.0, vmax=0.25)
     axes[2].set_title(f"|RTSDF - Cycles|: RMSE {rmse:.4f}, SSIM {ssim:.3f}, shadow RMSE {shadow_rmse:.4f}")

@@ -12,7 +12,7 @@ bl_info = {
 
 import bpy
 
-from . import engine, native, properties, ui
+from . import compare, engine, native, properties, ui
 
 
 class RTSDF_AddonPreferences(bpy.types.AddonPreferences):
@@ -32,7 +32,7 @@ class RTSDF_AddonPreferences(bpy.types.AddonPreferences):
             layout.label(text=f"Vulkan device: {device['name']} ({device['type']}, Vulkan {device['api_version']})")
 
 
-modules = (properties, engine, ui)
+modules = (properties, engine, ui, compare)
 
 
 def register():

@@ -53,6 +53,23 @@ class RenderEngine(unittest.TestCase):
         self.assertIn("RTSDF", {e.bl_idname for e in bpy.types.RenderEngine.__subclasses__()})
         self.assertEqual(bpy.context.scene.rtsdf.coarse_resolution, 64)
 
+    def test_compare_operator_shows_both_renders_and_their_figures(self):
+        scene = bpy.context.scene
+        scene.render.resolution_percentage = 25
+        scene.rtsdf.samples = 4
+        self.assertIn("FINISHED", bpy.ops.render.rtsdf_compare(cycles_samples=16))
+        figures = scene["rtsdf_compare"]
+        for name in ("rmse", "ssim", "shadow_rmse", "time_ratio"):
+            self.assertIn(name, figures)
+        self.assertLess(figures["rmse"], 2 * RMSE_TOLERANCE)  # (16 noisy Cycles samples at quarter size)
+        self.assertGreater(figures["shadow_pixels"], 0)
+        image = bpy.data.images["RTSDF vs Cycles"]
+        width = scene.render.resolution_x * 25 // 100
+        self.assertEqual(tuple(image.size), (3 * width, scene.render.resolution_y * 25 // 100))
+        # The engine and the lights' shadow flags are as they were.
+        self.assertNotEqual(scene.render.engine, "CYCLES")
+        self.assertTrue(all(light.cycles.cast_shadow for light in bpy.data.lights))
+
     def test_sample_scene_close_to_cycles_with_passes(self):
         bpy.context.view_layer.use_pass_z = True
         image, rtsdf = render("RTSDF", self.tmp.name, "rtsdf_", samples=8)

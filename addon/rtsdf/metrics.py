@@ -1,0 +1,64 @@
+"""Image figures for comparing RTSDF with a reference (Cycles): plain numpy
+and scikit-image, no bpy, so that the compare operator, scripts/compare_render.py
+and bench/run share them. Images are linear RGB float arrays (H, W, 3), rows
+top to bottom."""
+
+import numpy as np
+
+# Where Cycles' own visibility (its render over one with shadow casting off)
+# is below this, a pixel is in the shadowed region.
+SHADOWED_BELOW = 0.98
+# Cycles' umbra, for the leak figure.
+UMBRA_BELOW = 0.1
+
+
+def to_display(linear):
+    """Linear -> sRGB (for viewing and SSIM; the other figures are on linear values)."""
+    c = np.clip(linear, 0.0, 1.0)
+    return np.where(c <= 0.0031308, 12.92 * c, 1.055 * np.power(c, 1 / 2.4) - 0.055)
+
+
+def visibility(shadowed, unshadowed):
+    """Share of direct light reaching each pixel, from renders with and without shadows."""
+    return shadowed.mean(axis=-1) / np.maximum(unshadowed.mean(axis=-1), 1e-4)
+
+
+def rmse(a, b, mask=None):
+    if mask is not None:
+        if not mask.any():
+            return 0.0
+        a, b = a[mask], b[mask]
+    return float(np.sqrt(np.mean((a - b) ** 2)))
+
+
+def ssim(a, b):
+    from skimage.metrics import structural_similarity
+    return float(structural_similarity(to_display(a).mean(axis=-1), to_display(b).mean(axis=-1), data_range=1.0))
+
+
+def leak(method_visibility, reference_visibility):
+    """Share of the reference's umbra pixels that come out lit (visibility above one half)."""
+    umbra = reference_visibility < UMBRA_BELOW
+    return float(np.mean(method_visibility[umbra] > 0.5)) if umbra.any() else 0.0
+
+
+def flicker(frames):
+    """Mean absolute change between consecutive frames of a still scene (linear RGB)."""
+    if len(frames) < 2:
+        return 0.0
+    return float(np.mean([np.abs(b - a).mean() for a, b in zip(frames[:-1], frames[1:])]))
+
+
+def compare(image, reference, reference_unshadowed):
+    """The figures of `image` against `reference` (RMSE, SSIM, shadow-region RMSE)."""
+    shadowed = visibility(reference, reference_unshadowed) < SHADOWED_BELOW
+    return {"rmse": rmse(image, reference), "ssim": ssim(image, reference),
+            "shadow_rmse": rmse(image, reference, shadowed), "shadow_pixels": int(shadowed.sum())}
+
+
+def side_by_side(image, reference, vmax=0.25):
+    """image | reference | heat map of |image - reference| as one display-ready RGB array."""
+    from matplotlib import colormaps
+    difference = np.abs(image - reference).mean(axis=-1) / vmax
+    heat = colormaps["inferno"](np.clip(difference, 0.0, 1.0))[..., :3]
+    return np.concatenate([to_display(image), to_display(reference), heat], axis=1).astype(np.float32)
