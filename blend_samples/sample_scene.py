@@ -4,7 +4,9 @@ view transform, Cycles with direct light only and no denoiser, as RTSDF
 shades). Imported by the make_*.py scripts, which Blender runs."""
 import math
 
+import bmesh
 import bpy
+from mathutils import Euler, Matrix, Vector
 
 
 def material(name, color):
@@ -27,6 +29,76 @@ def add_sun(scene, rotation_degrees, strength=3.0, angle_degrees=5.0):
     sun_object.rotation_euler = tuple(math.radians(a) for a in rotation_degrees)
     scene.collection.objects.link(sun_object)
     return sun_object
+
+
+def sun_rotation(elevation_degrees, azimuth_degrees):
+    """add_sun's rotation for a sun `elevation_degrees` above the horizon whose
+    light travels towards +Y turned `azimuth_degrees` about +Z (so shadows fall
+    that way: 0 is +Y, 90 is -X, -90 is +X, 180 is -Y)."""
+    return (90.0 - elevation_degrees, 0.0, azimuth_degrees)
+
+
+def add_camera(scene, location, target, lens=50.0, clip_end=100.0):
+    """The scene camera at `location`, looking at `target`."""
+    camera = bpy.data.objects.new("Camera", bpy.data.cameras.new("Camera"))
+    camera.location = location
+    camera.rotation_euler = (Vector(target) - Vector(location)).to_track_quat("-Z", "Y").to_euler()
+    camera.data.lens = lens
+    camera.data.clip_end = clip_end
+    scene.collection.objects.link(camera)
+    scene.camera = camera
+    return camera
+
+
+def add_boxes(scene, name, boxes, color, location=(0.0, 0.0, 0.0)):
+    """One object made of closed boxes, each (size, centre[, rotation]) in the
+    object's own frame, the rotation in degrees: about z, or (x, y, z) Euler
+    angles; with a material of `color`."""
+    bm = bmesh.new()
+    for box in boxes:
+        size, centre = box[0], box[1]
+        turn = box[2] if len(box) > 2 else 0.0
+        turn = (0.0, 0.0, turn) if isinstance(turn, (int, float)) else turn
+        rotation = Euler(tuple(math.radians(a) for a in turn)).to_matrix().to_4x4()
+        matrix = Matrix.Translation(centre) @ rotation @ Matrix.Diagonal((*size, 1.0))
+        bmesh.ops.create_cube(bm, size=1.0, matrix=matrix)
+    mesh = bpy.data.meshes.new(name)
+    bm.to_mesh(mesh)
+    bm.free()
+    mesh.materials.append(material(name, color))
+    obj = bpy.data.objects.new(name, mesh)
+    obj.location = location
+    scene.collection.objects.link(obj)
+    return obj
+
+
+def add_chair(scene, name, location, turn_degrees, color, leg=0.035):
+    """A chair of boxes: legs `leg` thick, a seat 0.44 wide at 0.45-0.49, a back
+    on its +y side (so it faces -y before `turn_degrees` about z)."""
+    seat = 0.44
+    half = seat / 2 - leg / 2
+    boxes = [((leg, leg, 0.45), (sx * half, sy * half, 0.225)) for sx in (-1, 1) for sy in (-1, 1)]
+    boxes.append(((seat, seat, 0.04), (0, 0, 0.47)))
+    # The back: two posts rising from the back legs and two slats.
+    boxes += [((leg, leg, 0.45), (sx * half, half, 0.715)) for sx in (-1, 1)]
+    boxes += [((seat, 0.025, 0.12), (0, half, 0.86)), ((seat, 0.025, 0.05), (0, half, 0.66))]
+    obj = add_boxes(scene, name, boxes, color, location)
+    obj.rotation_euler.z = math.radians(turn_degrees)
+    return obj
+
+
+def add_ground(scene, size, color=(0.8, 0.8, 0.8), centre=(0.0, 0.0)):
+    """The ground: one quad (two triangles) `size` across (a number, or (x, y)),
+    named "Ground" (the evaluation code looks for that name)."""
+    sx, sy = (size, size) if isinstance(size, (int, float)) else size
+    cx, cy = centre
+    mesh = bpy.data.meshes.new("Ground")
+    mesh.from_pydata([(cx - sx / 2, cy - sy / 2, 0), (cx + sx / 2, cy - sy / 2, 0),
+                      (cx + sx / 2, cy + sy / 2, 0), (cx - sx / 2, cy + sy / 2, 0)], [], [(0, 1, 2, 3)])
+    mesh.materials.append(material("Ground", color))
+    ground = bpy.data.objects.new("Ground", mesh)
+    scene.collection.objects.link(ground)
+    return ground
 
 
 def finish(scene, out):

@@ -1,0 +1,123 @@
+"""The part of bench/run that runs inside Blender (with the rtsdf add-on):
+
+  prepare: the scene as RTSDF takes it (before and after a move of one
+           object), and the Cycles references (with and without shadows) of both;
+  eevee:   EEVEE renders (run under Xvfb) over a sweep of its shadow settings.
+
+blender -b SCENE.blend --addons rtsdf --python bench/blender_side.py -- MODE OUT_DIR PERCENT CYCLES_SAMPLES [QUICK]
+Writes pickles of plain data and numpy arrays (linear RGB, rows top to bottom) into OUT_DIR.
+"""
+import json
+import os
+import pickle
+import sys
+import tempfile
+import time
+
+import bpy
+import numpy as np
+from mathutils import Vector
+
+from rtsdf import sync
+
+MODE, OUT, PERCENT, CYCLES_SAMPLES = sys.argv[sys.argv.index("--") + 1:][:4]
+QUICK = sys.argv[-1] == "quick"
+PERCENT, CYCLES_SAMPLES = int(PERCENT), int(CYCLES_SAMPLES)
+os.makedirs(OUT, exist_ok=True)
+
+
+def render_pixels():
+    """Renders the current frame with the scene's engine: (linear RGB, seconds)."""
+    start = time.perf_counter()
+    bpy.ops.render.render()
+    seconds = time.perf_counter() - start
+    with tempfile.TemporaryDirectory() as directory:
+        path = os.path.join(directory, "frame.exr")
+        bpy.context.scene.render.image_settings.file_format = "OPEN_EXR"
+        bpy.data.images["Render Result"].save_render(path)
+        image = bpy.data.images.load(path)
+        pixels = np.array(image.pixels[:], dtype=np.float32).reshape(image.size[1], image.size[0], 4)
+        bpy.data.images.remove(image)
+    return np.ascontiguousarray(pixels[::-1, :, :3]), seconds
+
+
+def cycles(shadows):
+    scene = bpy.context.scene
+    scene.render.engine = "CYCLES"
+    scene.cycles.samples = CYCLES_SAMPLES
+    scene.cycles.use_denoising = False
+    scene.cycles.max_bounces = 0  # direct light only, as RTSDF computes it
+    for light in bpy.data.lights:
+        light.cycles.cast_shadow = shadows
+    return render_pixels()
+
+
+def moving_object():
+    """The object whose move the ghosting test follows: 'Sphere' if there is one, else the largest
+    shadow-casting mesh that is not the ground."""
+    objects = bpy.data.objects
+    if "Sphere" in objects:
+        return objects["Sphere"]
+    candidates = [o for o in objects if o.type == "MESH" and o.name != "Ground" and o.visible_shadow]
+    return max(candidates, key=lambda o: max(o.dimensions)) if candidates else None
+
+
+def prepare():
+    scene = bpy.context.scene
+    scene.render.resolution_percentage = PERCENT
+    scene.view_settings.view_transform = "Standard"
+    if scene.frame_end > scene.frame_start:  # animated: a frame in the middle
+        scene.frame_set((scene.frame_start + scene.frame_end) // 2)
+    depsgraph = bpy.context.evaluated_depsgraph_get()
+    before = sync.extract(depsgraph)
+    references = {"before": {}, "after": {}}
+    references["before"]["shadowed"], seconds = cycles(True)
+    references["before"]["unshadowed"], _ = cycles(False)
+
+    mover = moving_object()
+    after = None
+    if mover is not None:
+        # A move of the object's own size across the ground (x), so its old shadow is clear of the new one.
+        mover.location += Vector((max(mover.dimensions), 0.0, 0.0))
+        depsgraph = bpy.context.evaluated_depsgraph_get()
+        after = sync.extract(depsgraph)
+        references["after"]["shadowed"], _ = cycles(True)
+        references["after"]["unshadowed"], _ = cycles(False)
+    with open(os.path.join(OUT, "scene.pkl"), "wb") as f:
+        pickle.dump({"before": before, "after": after, "mover": mover.name if mover else None,
+                     "cycles_seconds": seconds, "cycles_samples": CYCLES_SAMPLES}, f)
+    for state, images in references.items():
+        for kind, image in images.items():
+            np.save(os.path.join(OUT, f"cycles_{state}_{kind}.npy"), image)
+
+
+def eevee():
+    scene = bpy.context.scene
+    scene.render.resolution_percentage = PERCENT
+    scene.view_settings.view_transform = "Standard"
+    if scene.frame_end > scene.frame_start:
+        scene.frame_set((scene.frame_start + scene.frame_end) // 2)
+    scene.render.engine = "BLENDER_EEVEE"
+    scene.eevee.use_soft_shadows = True
+    scene.eevee.use_gtao = False
+    scene.eevee.use_ssr = False
+    sweep = [("1024", 16), ("4096", 16)] if QUICK else [("1024", 16), ("2048", 16), ("4096", 16), ("4096", 64)]
+    results = []
+    for cascade, samples in sweep:
+        scene.eevee.shadow_cascade_size = cascade
+        scene.eevee.shadow_cube_size = cascade if cascade != "4096" else "4096"
+        scene.eevee.taa_render_samples = samples
+        for light in bpy.data.lights:
+            if light.type == "SUN":
+                light.shadow_cascade_count = 4
+        render_pixels()  # warms up shaders and shadow maps
+        image, seconds = render_pixels()
+        name = f"eevee_{cascade}_{samples}"
+        np.save(os.path.join(OUT, name + ".npy"), image)
+        results.append({"setting": f"cascade={cascade} samples={samples}", "file": name + ".npy",
+                        "ms_per_frame": 1000.0 * seconds / samples, "seconds": seconds})
+    with open(os.path.join(OUT, "eevee.json"), "w") as f:
+        json.dump(results, f, indent=1)
+
+
+{"prepare": prepare, "eevee": eevee}[MODE]()
