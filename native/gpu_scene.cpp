@@ -62,7 +62,7 @@ const GpuScene::RayStructures& GpuScene::ray_structures() {
   if (!has_ray_structures_) {
     Clock::time_point start = Clock::now();
     mesh_bvhs_.resize(scene_.meshes.size());
-    open_triangles_.resize(scene_.meshes.size());
+    piece_thickness_.resize(scene_.meshes.size());
     for (uint32_t m = 0; m < scene_.meshes.size(); ++m) build_bottom_level(m);
     upload_bottom_levels();
     build_top_level();
@@ -93,7 +93,7 @@ void GpuScene::upload_raster() {
 
 void GpuScene::build_bottom_level(uint32_t mesh) {
   mesh_bvhs_[mesh] = build_mesh_bvh(scene_.meshes[mesh]);
-  open_triangles_[mesh] = open_triangles(scene_.meshes[mesh]);
+  piece_thickness_[mesh] = piece_thickness(scene_.meshes[mesh]);
 }
 
 void GpuScene::upload_bottom_levels() {
@@ -106,10 +106,10 @@ void GpuScene::upload_bottom_levels() {
     const uint32_t node_offset = uint32_t(nodes.size()), triangle_offset = uint32_t(corners.size() / 3);
     blas_roots_.push_back(node_offset);
     for (const BvhBuildNode& n : bvh.nodes) nodes.push_back(to_gpu(n, node_offset, triangle_offset));
-    // The first corner's w is 1 for a triangle of a closed surface, 0 for one of an open surface.
+    // The first corner's w is the thickness of the triangle's piece (0: open), see mesh_topology.h.
     for (uint32_t t : bvh.order)
       for (int k = 0; k < 3; ++k)
-        corners.emplace_back(mesh.positions[mesh.indices[3 * t + k]], k == 0 && open_triangles_[m][t] ? 0.0f : 1.0f);
+        corners.emplace_back(mesh.positions[mesh.indices[3 * t + k]], k == 0 ? piece_thickness_[m][t] : 1.0f);
   }
   rays_.bottom_nodes = storage(context_, nodes);
   rays_.triangles = storage(context_, corners);

@@ -27,7 +27,7 @@ class GpuScene {
     vk::Buffer top_nodes;
     vk::Buffer instances;
     vk::Buffer bottom_nodes;
-    vk::Buffer triangles;  // three corners per triangle, in bottom-level leaf order; w of the first: 0 on an open surface
+    vk::Buffer triangles;  // three corners per triangle, in bottom-level leaf order; w of the first: piece thickness
   };
 
   // A rigid motion: only the top level is rebuilt.
@@ -76,7 +76,7 @@ class GpuScene {
   std::vector<GpuMeshRange> meshes_;
   bool has_ray_structures_ = false;
   std::vector<Bvh> mesh_bvhs_;
-  std::vector<std::vector<uint8_t>> open_triangles_;  // per mesh, per triangle (see mesh_topology.h)
+  std::vector<std::vector<float>> piece_thickness_;  // per mesh, per triangle (see mesh_topology.h)
   std::vector<uint32_t> blas_roots_;
   RayStructures rays_;
   double bvh_build_ms_ = 0.0;

@@ -28,7 +28,7 @@ struct DisjointSets {
 
 }  // namespace
 
-std::vector<uint8_t> open_triangles(const Mesh& mesh) {
+std::vector<float> piece_thickness(const Mesh& mesh) {
   const size_t triangles = mesh.triangle_count();
   // Vertices at the same position (to a millionth of the mesh's size, as
   // rounding leaves seams and poles) are one vertex.
@@ -66,9 +66,22 @@ std::vector<uint8_t> open_triangles(const Mesh& mesh) {
   std::vector<uint8_t> open_piece(triangles, 0);
   for (const auto& [key, use] : edges)
     if (use.count == 1) open_piece[pieces.find(use.triangle)] = 1;
-  std::vector<uint8_t> open(triangles);
-  for (uint32_t t = 0; t < triangles; ++t) open[t] = open_piece[pieces.find(t)];
-  return open;
+  // Volume (divergence theorem, about the mesh's corner for precision) and area per piece.
+  std::vector<double> volume(triangles, 0.0), area(triangles, 0.0);
+  for (uint32_t t = 0; t < triangles; ++t) {
+    const glm::dvec3 a = glm::dvec3(mesh.positions[mesh.indices[3 * t]] - lo);
+    const glm::dvec3 b = glm::dvec3(mesh.positions[mesh.indices[3 * t + 1]] - lo);
+    const glm::dvec3 c = glm::dvec3(mesh.positions[mesh.indices[3 * t + 2]] - lo);
+    const uint32_t piece = pieces.find(t);
+    volume[piece] += glm::dot(a, glm::cross(b, c)) / 6.0;
+    area[piece] += 0.5 * glm::length(glm::cross(b - a, c - a));
+  }
+  std::vector<float> thickness(triangles);
+  for (uint32_t t = 0; t < triangles; ++t) {
+    const uint32_t piece = pieces.find(t);
+    thickness[t] = open_piece[piece] || area[piece] <= 0.0 ? 0.0f : float(2.0 * std::abs(volume[piece]) / area[piece]);
+  }
+  return thickness;
 }
 
 }  // namespace rtsdf

@@ -46,7 +46,33 @@ bool grid_still_fits(const GridSpec& current, const Bounds& bounds, const GridSp
          current.voxel_size <= tight.voxel_size * (1.0f + 2.0f * slack);
 }
 
+struct MethodName {
+  ShadowMethod method;
+  const char* name;
+};
+constexpr MethodName kMethodNames[] = {{ShadowMethod::Rtsdf, "rtsdf"},
+                                       {ShadowMethod::RtOnly, "rt_only"},
+                                       {ShadowMethod::JfaOnly, "jfa_only"},
+                                       {ShadowMethod::CsmEvsm, "csm_evsm"}};
+
+bool uses_fine_sdf(ShadowMethod method) { return method == ShadowMethod::Rtsdf || method == ShadowMethod::RtOnly; }
+
 }  // namespace
+
+ShadowMethod parse_shadow_method(const std::string& name) {
+  std::string known;
+  for (const MethodName& m : kMethodNames) {
+    if (name == m.name) return m.method;
+    known += std::string(known.empty() ? "" : ", ") + m.name;
+  }
+  throw Error("unknown shadow method '" + name + "': use one of " + known);
+}
+
+const char* shadow_method_name(ShadowMethod method) {
+  for (const MethodName& m : kMethodNames)
+    if (m.method == method) return m.name;
+  return "unknown";
+}
 
 Renderer::Renderer(const vk::Context& context)
     : context_(context), coarse_(context), fine_(context), gbuffer_(context), shade_(context) {}
@@ -60,13 +86,21 @@ void Renderer::validate(int width, int height, const RenderSettings& settings) c
   if (settings.shadow_max_steps < 1 || settings.shadow_max_steps > 4096) throw Error("shadow_max_steps must be 1 to 4096");
   if (!(settings.shadow_epsilon > 0.0f) || !(settings.max_step > 0.0f))
     throw Error("shadow_epsilon and max_step must be positive");
+  if (settings.shadow_map_size < 16 || settings.shadow_map_size > 8192) throw Error("shadow_map_size must be 16 to 8192");
+}
+
+FineTraceSettings Renderer::fine_settings() const {
+  FineTraceSettings fine = settings_.fine;
+  if (settings_.shadow_method == ShadowMethod::RtOnly) fine.trace_everywhere = true;
+  return fine;
 }
 
 void Renderer::rebuild_sdfs(GpuScene& scene, const RenderSettings& settings) {
   const bool had_casters = has_casters_;
   has_casters_ = !scene.shadow_casters().empty();
   fine_updates_ = 0;
-  if (has_casters_) {
+  // csm_evsm needs no SDF; jfa_only only the coarse one.
+  if (has_casters_ && settings.shadow_method != ShadowMethod::CsmEvsm) {
     const Bounds bounds = scene.bounds();
     const GridSpec tight = fit_grid(bounds, settings.coarse_resolution);
     if (!(had_casters && settings.coarse_resolution == settings_.coarse_resolution &&
@@ -77,11 +111,16 @@ void Renderer::rebuild_sdfs(GpuScene& scene, const RenderSettings& settings) {
                                                 : tight;
     }
     coarse_.build(scene, coarse_grid_, settings.beta);
-    fine_grid_ = FineSdf::fit(coarse_grid_, settings.fine_resolution);
-    if (!settings.keep_history) fine_.reset();  // (a new grid resets it anyway)
-  } else if (!no_casters_field_) {
-    // Nothing casts shadows: a one-texel field the shading never marches.
-    no_casters_field_ = std::make_unique<vk::Image>(context_, glm::ivec3(1), VK_FORMAT_R32_SFLOAT,
+    if (uses_fine_sdf(settings.shadow_method)) {
+      fine_grid_ = FineSdf::fit(coarse_grid_, settings.fine_resolution);
+      // (a new grid resets it anyway; another method's field is not history)
+      if (!settings.keep_history || settings.shadow_method != settings_.shadow_method) fine_.reset();
+    }
+  }
+  if (!no_casters_field_) {
+    // Bound where no field is marched (nothing casts shadows, or csm_evsm): two
+    // texels (a depth of one would make a 2D image, which an image3D cannot bind).
+    no_casters_field_ = std::make_unique<vk::Image>(context_, glm::ivec3(1, 1, 2), VK_FORMAT_R32_SFLOAT,
                                                     VK_IMAGE_USAGE_STORAGE_BIT);
     context_.submit_and_wait([&](VkCommandBuffer cmd) {
       vk::image_barrier(cmd, no_casters_field_->handle(), VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL, 0,
@@ -103,7 +142,8 @@ void Renderer::begin(GpuScene& scene, const Camera& camera, const std::vector<Li
   scene.set_shadow_casters(find_shadow_casters(scene.scene(), lights));
   if (scene_changed || scene_ != &scene || scene.shadow_casters() != casters_before ||
       settings.coarse_resolution != settings_.coarse_resolution ||
-      settings.fine_resolution != settings_.fine_resolution || settings.beta != settings_.beta || frame_ == 0)
+      settings.fine_resolution != settings_.fine_resolution || settings.beta != settings_.beta ||
+      settings.shadow_method != settings_.shadow_method || frame_ == 0)
     rebuild_sdfs(scene, settings);  // (otherwise the SDFs, independent of the view, stay as they are)
   scene_ = &scene;
   settings_ = settings;
@@ -137,11 +177,36 @@ void Renderer::begin(GpuScene& scene, const Camera& camera, const std::vector<Li
   frame_data_.ambient = glm::vec4(ambient, 0.0f);
   world_to_clip_ = kGlToVulkan * camera.projection * camera.world_to_view;
 
+  // Visibility: which field the march reads (and its grid), or the shadow maps.
   push_ = {};
-  push_.fine_grid = glm::vec4(fine_grid_.origin, fine_grid_.voxel_size);
-  push_.fine_dims = glm::ivec4(fine_grid_.dims, has_casters_ ? settings.shadow_max_steps : 0);
-  push_.march = glm::vec4(settings.shadow_epsilon * fine_grid_.voxel_size, settings.max_step * fine_grid_.voxel_size,
-                          1.0f * fine_grid_.voxel_size, 0.0f);
+  const GridSpec& field = settings.shadow_method == ShadowMethod::JfaOnly ? coarse_grid_ : fine_grid_;
+  push_.field_grid = glm::vec4(field.origin, field.voxel_size);
+  push_.field_dims = glm::ivec4(field.dims, has_casters_ ? settings.shadow_max_steps : 0);
+  push_.march = glm::vec4(settings.shadow_epsilon * field.voxel_size, settings.max_step * field.voxel_size,
+                          1.0f * field.voxel_size, 0.0f);
+  push_.surface = glm::vec4(0.25f * field.voxel_size, 0.0f, 0.0f, 0.0f);
+  switch (settings.shadow_method) {
+    case ShadowMethod::Rtsdf:
+    case ShadowMethod::RtOnly:
+      push_.visibility.x = gpu::kVisibilitySignedSdf;
+      break;
+    case ShadowMethod::JfaOnly:
+      // The unsigned field's surfaces are shells epsilon + beta thick: a
+      // caster's march starts outside its own shell (with a voxel to spare
+      // for the flood's quantization), or its lit side would shadow itself.
+      push_.visibility.x = gpu::kVisibilityUnsignedSdf;
+      push_.surface.x = (settings.shadow_epsilon + settings.beta + 1.0f) * field.voxel_size;
+      break;
+    case ShadowMethod::CsmEvsm:
+      if (!shadow_maps_) shadow_maps_ = std::make_unique<ShadowMapPass>(context_);
+      shadow_maps_->setup(scene, lights, camera.world_to_view, camera.projection, settings.shadow_map_size);
+      push_.visibility = glm::uvec4(gpu::kVisibilityShadowMaps, uint32_t(shadow_maps_->tile_size()), 0u, 0u);
+      push_.surface = glm::vec4(0.0f, 1.0f, 0.0f, 0.0f);  // a texel off their own depth in the maps
+      push_.evsm = glm::vec4(ShadowMapPass::kPositiveExponent, ShadowMapPass::kNegativeExponent,
+                             ShadowMapPass::kLightBleedingReduction, 0.0f);
+      break;
+  }
+  shadow_map_renders_ = 0;
   frame_ = 0;
   timings_.total_ms = ms_since(start);
 }
@@ -149,11 +214,19 @@ void Renderer::begin(GpuScene& scene, const Camera& camera, const std::vector<Li
 void Renderer::add_frame() {
   if (!scene_) throw Error("add_frame: call begin() first");
   const Clock::time_point start = Clock::now();
-  if (has_casters_ && (settings_.sdf_updates == 0 || fine_updates_ < settings_.sdf_updates)) {
-    fine_.update(*scene_, coarse_, fine_grid_, settings_.fine);
+  // The visibility's per-frame work, in the first sdf_updates frames (0: every frame).
+  auto due = [&](int done) { return has_casters_ && (settings_.sdf_updates == 0 || done < settings_.sdf_updates); };
+  if (uses_fine_sdf(settings_.shadow_method) && due(fine_updates_)) {
+    fine_.update(*scene_, coarse_, fine_grid_, fine_settings());
     fine_updates_++;
   }
   timings_.fine_ms += ms_since(start);
+  const Clock::time_point maps = Clock::now();
+  if (settings_.shadow_method == ShadowMethod::CsmEvsm && due(shadow_map_renders_)) {
+    context_.submit_and_wait([&](VkCommandBuffer cmd) { shadow_maps_->record(cmd, *scene_); });
+    shadow_map_renders_++;
+  }
+  timings_.shadow_map_ms += ms_since(maps);
 
   const Clock::time_point shading = Clock::now();
   // Sub-pixel jitter (Halton 2,3) for anti-aliasing, averaged over frames.
@@ -164,10 +237,14 @@ void Renderer::add_frame() {
   std::memcpy(frame_buffer_.mapped(), &frame_data_, sizeof frame_data_);
   push_.image = glm::ivec4(width_, height_, light_count_, frame_);
   push_.march.w = 1.0f / float(frame_ + 1);
-  const vk::Image& field = has_casters_ ? fine_.distance() : *no_casters_field_;
+  const vk::Image& field = !has_casters_ ? *no_casters_field_
+                           : uses_fine_sdf(settings_.shadow_method) ? fine_.distance()
+                           : settings_.shadow_method == ShadowMethod::JfaOnly ? coarse_.distance()
+                                                                              : *no_casters_field_;
+  const ShadowMapPass* shadow_maps = settings_.shadow_method == ShadowMethod::CsmEvsm ? shadow_maps_.get() : nullptr;
   context_.submit_and_wait([&](VkCommandBuffer cmd) {
     gbuffer_.record(cmd, *scene_, frame_buffer_);
-    shade_.record(cmd, gbuffer_, field, light_buffer_, frame_buffer_, accum_color_, accum_passes_, push_);
+    shade_.record(cmd, gbuffer_, field, shadow_maps, light_buffer_, frame_buffer_, accum_color_, accum_passes_, push_);
   });
   timings_.shade_ms += ms_since(shading);
   timings_.total_ms += ms_since(start);

@@ -1,8 +1,10 @@
 #pragma once
 // The whole RTSDF frame: coarse SDF -> fine SDF -> G-buffer -> shading with
-// SDF soft shadows, averaged over accumulation frames.
+// SDF soft shadows, averaged over accumulation frames. Baselines share the
+// G-buffer and the shading and differ only in visibility (ShadowMethod).
 #include <functional>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "coarse_sdf.h"
@@ -10,6 +12,7 @@
 #include "lights.h"
 #include "passes/gbuffer.h"
 #include "passes/shade.h"
+#include "passes/shadow_map.h"
 
 namespace rtsdf {
 
@@ -29,18 +32,33 @@ inline FineTraceSettings shading_fine_settings() {
   return settings;
 }
 
+// Where shadows come from. Settings and Python name them rtsdf, rt_only,
+// jfa_only and csm_evsm.
+enum class ShadowMethod {
+  Rtsdf,    // the paper: coarse SDF by jump flooding, fine SDF ray traced in a band around surfaces
+  RtOnly,   // the fine SDF ray traced at every texel of its grid (no band), every frame
+  JfaOnly,  // no fine SDF: the march reads the coarse (jump-flooded, unsigned) SDF
+  CsmEvsm,  // no SDF: cascaded shadow maps filtered as EVSM (the paper's comparison)
+};
+// Throws rtsdf::Error for an unknown name.
+ShadowMethod parse_shadow_method(const std::string& name);
+const char* shadow_method_name(ShadowMethod method);
+
 struct RenderSettings {
+  ShadowMethod shadow_method = ShadowMethod::Rtsdf;
   int coarse_resolution = 64;
   float beta = 0.5f;             // coarse voxels
   int fine_resolution = 128;
   FineTraceSettings fine = shading_fine_settings();
-  float shadow_epsilon = 1.0f;   // fine voxels (the paper: at least one)
+  float shadow_epsilon = 1.0f;   // voxels of the field marched: fine (jfa_only: coarse); the paper: at least one
   int shadow_max_steps = 96;
-  float max_step = 4.0f;         // fine voxels
+  float max_step = 4.0f;         // voxels of the field marched, as shadow_epsilon
+  int shadow_map_size = 1024;    // csm_evsm: texels per side of each cascade (and spot view, cube face)
   int samples = 16;              // accumulation frames (sub-pixel and shadow-origin jitter each)
   // Fine-SDF updates per render, one in each of the first accumulation frames
   // (0: every frame). A static frame's field is near converged after a few;
   // the later frames only refine the anti-aliasing and the shadow jitter.
+  // csm_evsm renders its shadow maps by the same rule.
   int sdf_updates = 0;
   // Room left around the shadow casters when a grid is fitted, as a share of
   // their extent: while they stay inside it (and fill it well enough), the
@@ -52,7 +70,11 @@ struct RenderSettings {
 };
 
 struct RenderTimings {
-  double coarse_ms = 0, fine_ms = 0, shade_ms = 0, total_ms = 0;  // wall time
+  // Wall time: coarse_ms is begin()'s (the coarse SDF's build, if any), fine_ms
+  // the fine-SDF updates, shadow_map_ms the shadow maps' renders and blurs
+  // (csm_evsm), shade_ms the G-buffer and shading.
+  double coarse_ms = 0, fine_ms = 0, shade_ms = 0, total_ms = 0;
+  double shadow_map_ms = 0;
 };
 
 struct RenderOutput {
@@ -91,16 +113,20 @@ class Renderer {
   const RenderTimings& timings() const { return timings_; }
   // The accumulated image so far; the depth and shadow passes only if asked.
   RenderOutput read(bool passes = true) const;
+  // csm_evsm's shadow maps as begin() fitted them (null before its first use).
+  const ShadowMapPass* shadow_maps() const { return shadow_maps_.get(); }
 
  private:
   void validate(int width, int height, const RenderSettings& settings) const;
   void rebuild_sdfs(GpuScene& scene, const RenderSettings& settings);
+  FineTraceSettings fine_settings() const;
 
   const vk::Context& context_;
   CoarseSdf coarse_;
   FineSdf fine_;
   GBufferPass gbuffer_;
   ShadePass shade_;
+  std::unique_ptr<ShadowMapPass> shadow_maps_;  // made on first use of csm_evsm
   std::unique_ptr<vk::Image> no_casters_field_;
 
   // The accumulation begin() set up.
@@ -110,7 +136,8 @@ class Renderer {
   bool has_casters_ = false;
   int width_ = 0, height_ = 0;
   int frame_ = 0;
-  int fine_updates_ = 0;
+  int fine_updates_ = 0;        // since the SDFs were rebuilt
+  int shadow_map_renders_ = 0;  // since begin() (the maps follow the camera)
   RenderTimings timings_;
   gpu::FrameData frame_data_{};
   gpu::ShadePush push_{};

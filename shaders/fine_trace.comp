@@ -6,10 +6,15 @@
 // with r_t the smallest distance from the texel to a triangle a ray hit. Front/back hit counts decay with alpha too; the
 // texel is inside (negative) when back faces outnumber front faces.
 // Back faces mean "inside" only on closed surfaces: behind a one-sided sheet
-// they would mark the whole band as inside, and shadows would spread from it.
-// Hits on open surfaces are not counted; instead their distance g is kept
-// apart (updated like f) and each sheet reads as a slab one fine voxel thick
-// on either side: the stored value is min(+-f, g - voxel).
+// they would mark the whole band as inside, and shadows would spread from it;
+// and a closed piece thinner than a voxel has no texel inside it, so marches
+// through it never see a negative value (its shadow would be half lit).
+// Hits on such thin pieces are not counted; instead the distance g to their
+// slabs is kept apart (updated like f) and the stored value is min(+-f, g).
+// A closed thin piece reads as a slab half a voxel thick on either side, an
+// open one (no thickness at all) a whole voxel: a march crossing it must see
+// a value well below zero to be blocked, and each half voxel of slab widens
+// the piece's shadow by as much.
 #include "shared.h"
 #include "seed_common.glsl.h"  // texel indices are packed like seeds
 
@@ -25,6 +30,8 @@ layout(push_constant) uniform Push { FinePush pc; };
 
 vec3 rotate(vec4 q, vec3 v) { return v + 2.0 * cross(q.xyz, cross(q.xyz, v) + q.w * v); }
 
+float slab_half_thickness(float thickness) { return (thickness > 0.0 ? 0.5 : 1.0) * pc.fine_grid.w; }
+
 void main() {
   uint item = gl_GlobalInvocationID.x;
   if (item >= trace_count) return;
@@ -34,7 +41,8 @@ void main() {
 
   const int rays = pc.fine_dims.w;
   const float golden_angle = 2.39996323;
-  float nearest = pc.params.w, nearest_open = pc.params.w;
+  // nearest_slab: distance to the nearest thin piece's slab (negative inside it).
+  float nearest = pc.params.w, nearest_slab = pc.params.w;
   vec2 hits = vec2(0.0);  // front, back (closed surfaces only)
   for (int i = 0; i < rays; ++i) {
     float z = 1.0 - (2.0 * float(i) + 1.0) / float(rays);
@@ -49,8 +57,9 @@ void main() {
       // texel's distance, and no larger than t: minima converge much faster.
       float distance = min(t, distance_to_hit(world, triangle, instance));
       nearest = min(nearest, distance);
-      if (on_open_surface(triangle))
-        nearest_open = min(nearest_open, distance);
+      float thickness = piece_thickness(triangle, instance);
+      if (thickness < pc.fine_grid.w)
+        nearest_slab = min(nearest_slab, distance - slab_half_thickness(thickness));
       else
         hits += front ? vec2(1.0, 0.0) : vec2(0.0, 1.0);
     }
@@ -62,7 +71,7 @@ void main() {
   vec4 history = first_frame ? vec4(0.0, 0.0, target, pc.params.w) : imageLoad(hit_counts, p);
   vec2 counts = alpha * history.xy + hits;
   float f = min(alpha * history.z + (1.0 - alpha) * target, nearest);
-  float g = min(alpha * history.w + (1.0 - alpha) * pc.params.w, nearest_open);
+  float g = min(alpha * history.w + (1.0 - alpha) * pc.params.w, nearest_slab);
   imageStore(hit_counts, p, vec4(counts, f, g));
-  imageStore(fine, p, vec4(min(counts.y > counts.x ? -f : f, g - pc.fine_grid.w)));
+  imageStore(fine, p, vec4(min(counts.y > counts.x ? -f : f, g)));
 }

@@ -103,9 +103,12 @@ float point_triangle_distance(vec3 p, vec3 a, vec3 b, vec3 c) {
   return length(p - (a + ab * (vb * denom) + ac * (vc * denom)));
 }
 
-// Whether a triangle the ray tracer hit belongs to an open surface (see
-// native/mesh_topology.h): the first corner's w is 0 there.
-bool on_open_surface(uint triangle) { return triangle_corners[3u * triangle].w < 0.5; }
+// World thickness of the piece a hit triangle belongs to (0: an open
+// surface); the first corner's w holds it in object units (native/mesh_topology.h).
+float piece_thickness(uint triangle, uint instance) {
+  float scale = pow(abs(determinant(mat3(instances[instance].object_to_world))), 1.0 / 3.0);
+  return triangle_corners[3u * triangle].w * scale;
+}
 
 // World-space distance from p to a triangle the ray tracer hit.
 float distance_to_hit(vec3 p, uint triangle, uint instance) {

@@ -1,45 +1,52 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
-// Shading: Lambert direct light times SDF visibility, plus the world colour,
+// Shading: Lambert direct light times visibility, plus the world colour,
 // averaged over accumulation frames (each with its own sub-pixel and
-// shadow-origin jitter). Visibility marches the fine SDF towards the light
-// (trilinear samples, stop below shadow_epsilon, steps capped at max_step)
-// with the cone penumbra, improved by Aaltonen's triangulation between
-// consecutive samples (Claybook, GDC 2018).
+// shadow-origin jitter). Visibility (pc.visibility.x) either marches an SDF
+// towards the light (trilinear samples, stop below shadow_epsilon, steps
+// capped at max_step) with the cone penumbra, improved by Aaltonen's
+// triangulation between consecutive samples (Claybook, GDC 2018): the signed
+// fine SDF, or for the jfa_only baseline the unsigned coarse one, bound to
+// the same binding with its own grid; or, for the csm_evsm baseline, looks
+// up EVSM shadow maps. Only visibility differs between the methods.
 #include "shared.h"
+#include "evsm.glsl.h"
 
 layout(local_size_x = 8, local_size_y = 8) in;
 layout(binding = 0, rgba32f) uniform readonly image2D g_position;
 layout(binding = 1, rgba32f) uniform readonly image2D g_normal;
 layout(binding = 2, rgba32f) uniform readonly image2D g_albedo;
-layout(binding = 3, r32f) uniform readonly image3D fine;
+layout(binding = 3, r32f) uniform readonly image3D field;  // the SDF marched (pc.field_grid, pc.field_dims)
 layout(std430, binding = 4) readonly buffer Lights { GpuLight lights[]; };
 layout(std430, binding = 5) readonly buffer Frame { FrameData frame; };
 layout(binding = 6, rgba32f) uniform image2D accum_color;   // rgb = Combined, a = coverage
 layout(binding = 7, rg32f) uniform image2D accum_passes;    // x = Depth, y = Shadow (visibility)
+layout(binding = 8, rgba32f) uniform readonly image2D shadow_atlas;  // EVSM moments (csm_evsm)
+layout(std430, binding = 9) readonly buffer ShadowTiles { ShadowTile shadow_tiles[]; };
+layout(std430, binding = 10) readonly buffer ShadowLights { ShadowLightTiles shadow_lights[]; };
 layout(push_constant) uniform Push { ShadePush pc; };
 
-// The part [t0, t1] of the ray inside the fine grid's box, which holds every
+// The part [t0, t1] of the ray inside the field's box, which holds every
 // shadow caster (t0 > t1: it misses the box).
 vec2 grid_span(vec3 origin, vec3 dir) {
-  vec3 lo = pc.fine_grid.xyz, hi = lo + vec3(pc.fine_dims.xyz) * pc.fine_grid.w;
+  vec3 lo = pc.field_grid.xyz, hi = lo + vec3(pc.field_dims.xyz) * pc.field_grid.w;
   vec3 inv = 1.0 / mix(dir, vec3(1e-20), equal(dir, vec3(0.0)));
   vec3 a = (lo - origin) * inv, b = (hi - origin) * inv;
   vec3 near = min(a, b), far = max(a, b);
   return vec2(max(near.x, max(near.y, near.z)), min(far.x, min(far.y, far.z)));
 }
 
-// Trilinear sample of the fine SDF (inside the grid).
+// Trilinear sample of the field (inside the grid).
 float sdf(vec3 world) {
-  vec3 q = (world - pc.fine_grid.xyz) / pc.fine_grid.w - 0.5;
-  ivec3 hi = pc.fine_dims.xyz - 1;
+  vec3 q = (world - pc.field_grid.xyz) / pc.field_grid.w - 0.5;
+  ivec3 hi = pc.field_dims.xyz - 1;
   vec3 base = floor(q);
   vec3 f = clamp(q - base, 0.0, 1.0);
   ivec3 i0 = clamp(ivec3(base), ivec3(0), hi), i1 = clamp(ivec3(base) + 1, ivec3(0), hi);
-  float c00 = mix(imageLoad(fine, ivec3(i0.x, i0.y, i0.z)).x, imageLoad(fine, ivec3(i1.x, i0.y, i0.z)).x, f.x);
-  float c10 = mix(imageLoad(fine, ivec3(i0.x, i1.y, i0.z)).x, imageLoad(fine, ivec3(i1.x, i1.y, i0.z)).x, f.x);
-  float c01 = mix(imageLoad(fine, ivec3(i0.x, i0.y, i1.z)).x, imageLoad(fine, ivec3(i1.x, i0.y, i1.z)).x, f.x);
-  float c11 = mix(imageLoad(fine, ivec3(i0.x, i1.y, i1.z)).x, imageLoad(fine, ivec3(i1.x, i1.y, i1.z)).x, f.x);
+  float c00 = mix(imageLoad(field, ivec3(i0.x, i0.y, i0.z)).x, imageLoad(field, ivec3(i1.x, i0.y, i0.z)).x, f.x);
+  float c10 = mix(imageLoad(field, ivec3(i0.x, i1.y, i0.z)).x, imageLoad(field, ivec3(i1.x, i1.y, i0.z)).x, f.x);
+  float c01 = mix(imageLoad(field, ivec3(i0.x, i0.y, i1.z)).x, imageLoad(field, ivec3(i1.x, i0.y, i1.z)).x, f.x);
+  float c11 = mix(imageLoad(field, ivec3(i0.x, i1.y, i1.z)).x, imageLoad(field, ivec3(i1.x, i1.y, i1.z)).x, f.x);
   return mix(mix(c00, c10, f.y), mix(c01, c11, f.y), f.z);
 }
 
@@ -72,7 +79,14 @@ float disk_visible(float r) {
 // value further than the step could explain (an SDF changes by at most the
 // distance moved) has entered that interior, and reads it negated until it
 // reaches the band on the far side.
-float visibility(vec3 origin, vec3 dir, float t_min, float t_max, float tan_radius, float jitter) {
+// An unsigned field (the coarse SDF of jfa_only) cannot tell inside from
+// outside: a sample within epsilon of its surfaces blocks the ray (the
+// paper's stop), and only clearances above that shell shape the penumbra,
+// whose inner half therefore collapses onto the shell.
+// escape: how far along the ray negative samples are skipped until the first
+// non-negative one: a receiver that is itself in the SDF may start inside its
+// own shell (thin pieces read as slabs a voxel thick on either side).
+float visibility(vec3 origin, vec3 dir, float t_min, float t_max, float tan_radius, float jitter, float escape) {
   float epsilon = pc.march.x, max_step = pc.march.y;
   // Only the part inside the grid can meet a caster: surfaces outside it (a
   // ground the grid was not fitted to) march from where their ray enters it.
@@ -86,16 +100,31 @@ float visibility(vec3 origin, vec3 dir, float t_min, float t_max, float tan_radi
   float t = t_start;
   float ratio = 1.0;  // smallest clearance / cone radius seen
   float previous_h = 0.0, step = 0.0;
-  bool deep_inside = false;
-  for (int i = 0; i < pc.fine_dims.w && t < t_max; ++i) {
+  bool deep_inside = false, have_previous = false;
+  const bool unsigned_field = pc.visibility.x == kVisibilityUnsignedSdf;
+  bool escaping = escape > 0.0 && !unsigned_field;
+  for (int i = 0; i < pc.field_dims.w && t < t_max; ++i) {
     float h = sdf(origin + dir * t);
-    if (h < 0.0) deep_inside = false;
-    else if (deep_inside || (i > 0 && previous_h < 0.0 && h - previous_h > step + pc.fine_grid.w)) deep_inside = true, h = -h;
-    if (tan_radius <= 0.0) {
+    if (escaping) {
+      if (h < 0.0 && t < t_start + escape) {
+        t += 0.5 * epsilon;
+        continue;
+      }
+      escaping = false;
+    }
+    if (unsigned_field) {
       if (h < epsilon) return 0.0;
+      h -= epsilon;
+    } else if (h < 0.0) {
+      deep_inside = false;
+    } else if (deep_inside || (have_previous && previous_h < 0.0 && h - previous_h > step + pc.field_grid.w)) {
+      deep_inside = true, h = -h;
+    }
+    if (tan_radius <= 0.0) {
+      if (!unsigned_field && h < epsilon) return 0.0;
     } else {
       float clearance = h, at = t;
-      if (i > 0 && previous_h > 0.0 && h > 0.0) {
+      if (have_previous && previous_h > 0.0 && h > 0.0) {
         // Spheres of radius previous_h and h around the last two samples (step
         // apart) meet y back along the ray, d off it. Marching straight away
         // from the receiver they barely touch, back at the start: no estimate there.
@@ -107,11 +136,63 @@ float visibility(vec3 origin, vec3 dir, float t_min, float t_max, float tan_radi
       if (ratio <= -1.0) return 0.0;
     }
     previous_h = h;
+    have_previous = true;
     // Through the thickened surface in small steps, elsewhere sphere tracing capped at max_step.
     step = clamp(abs(h), 0.5 * epsilon, max_step);
     t += step;
   }
   return tan_radius <= 0.0 ? 1.0 : disk_visible(ratio);
+}
+
+// Bilinear sample of a tile's moments at `texel` (continuous, 0 to size across the tile).
+vec4 shadow_moments(ShadowTile tile, vec2 texel) {
+  int last = int(pc.visibility.y) - 1;
+  vec2 q = clamp(texel - 0.5, vec2(0.0), vec2(last));
+  ivec2 i0 = ivec2(floor(q)), i1 = min(i0 + 1, ivec2(last));
+  vec2 f = q - vec2(i0);
+  ivec2 o = tile.atlas.xy;
+  vec4 a = mix(imageLoad(shadow_atlas, o + i0), imageLoad(shadow_atlas, o + ivec2(i1.x, i0.y)), f.x);
+  vec4 b = mix(imageLoad(shadow_atlas, o + ivec2(i0.x, i1.y)), imageLoad(shadow_atlas, o + i1), f.x);
+  return mix(a, b, f.y);
+}
+
+// Where `p` falls in a tile: texel (x, y) and view depth (z); w < 0: outside
+// it (beyond its border margin, or beyond its far plane, where casters behind
+// were not drawn).
+vec4 tile_position(ShadowTile tile, vec3 p) {
+  vec4 clip = tile.world_to_clip * vec4(p, 1.0);
+  float size = float(pc.visibility.y), margin = float(tile.atlas.z);
+  vec2 texel = (clip.xy / max(clip.w, 1e-20) * 0.5 + 0.5) * size;
+  float depth = dot(tile.depth_axis.xyz, p) + tile.depth_axis.w;
+  bool inside = clip.w > 0.0 && all(greaterThanEqual(texel, vec2(margin))) &&
+                all(lessThanEqual(texel, vec2(size - margin))) && (depth - tile.depth_range.x) * tile.depth_range.y <= 1.0;
+  return vec4(texel, depth, inside ? 1.0 : -1.0);
+}
+
+// csm_evsm: the share of light `light` reaching `p`, from the first of its
+// tiles (the finest cascade) that holds p clear of the blur's border; 1 where
+// none does. `casts`: p's surface is in the maps itself, so it is looked up a
+// texel off along the normal.
+float shadow_map_visibility(int light, vec3 p, vec3 n, bool casts) {
+  ShadowLightTiles range = shadow_lights[light];
+  for (uint i = 0u; i < range.count; ++i) {
+    ShadowTile tile = shadow_tiles[range.first + i];
+    vec4 at = tile_position(tile, p);
+    if (at.w < 0.0) continue;
+    float texel_world = tile.depth_range.z + tile.depth_range.w * max(at.z, 0.0);
+    if (casts) at = tile_position(tile, p + n * (pc.surface.y * texel_world));
+    vec4 moments = shadow_moments(tile, at.xy);
+    vec2 warped = evsm_warp((at.z - tile.depth_range.x) * tile.depth_range.y, pc.evsm.xy);
+    // The least variance: what a depth error of half a texel's width would
+    // give (d warp / d world = c |warp| dx/d world, dx/d world = 2 / range).
+    vec2 spread = pc.evsm.xy * abs(warped) * (tile.depth_range.y * texel_world);
+    float v = min(chebyshev_upper_bound(moments.xy, warped.x, spread.x * spread.x),
+                  chebyshev_upper_bound(moments.zw, warped.y, spread.y * spread.y));
+    // Light-bleeding reduction: the bound's low tail (light leaking through
+    // overlapping occluders) is cut to full shadow.
+    return clamp((v - pc.evsm.z) / (1.0 - pc.evsm.z), 0.0, 1.0);
+  }
+  return 1.0;
 }
 
 void main() {
@@ -137,36 +218,43 @@ void main() {
     // On a surface that is in the SDF it starts pc.march.z along the ray, so
     // the receiver does not shadow itself; a surface left out of the SDF (a
     // ground that cannot shadow anything) starts at once, so contact shadows
-    // reach the objects resting on it. A quarter-voxel nudge keeps a caster's
-    // march off its own surface.
-    vec3 origin = in_sdf ? p + n * (0.25 * pc.fine_grid.w) : p;
+    // reach the objects resting on it. A nudge along the normal (pc.surface.x:
+    // a quarter voxel of the fine SDF, more for the thick shell of the
+    // unsigned coarse one) keeps a caster's march off its own surface.
+    vec3 origin = in_sdf ? p + n * pc.surface.x : p;
     for (int l = 0; l < pc.image.z; ++l) {
       GpuLight light = lights[l];
       uint type = uint(light.position.w);
-      vec3 dir;
+      vec3 dir, march_dir;  // towards the light from p (shading) and from the march's origin
       vec3 irradiance = light.radiance.rgb;
       float t_max, tan_radius;
       if (type == kLightSun) {
-        dir = -light.direction.xyz;
+        dir = march_dir = -light.direction.xyz;
         t_max = 1e10;
         tan_radius = light.direction.w;
       } else {
-        vec3 to_light = light.position.xyz - origin;
+        // Lighting from p itself, so that every method shades alike.
+        vec3 to_light = light.position.xyz - p;
         float distance = length(to_light);
         dir = to_light / max(distance, 1e-6);
         irradiance /= max(distance * distance, 1e-8);
-        t_max = max(distance - light.direction.w, 0.0);
-        tan_radius = light.direction.w / max(distance, 1e-6);
         float cos_axis = dot(-dir, light.direction.xyz);
         // As Cycles: inside the cone, the cosine to the axis times a smoothstep over the blend.
         if (type == kLightSpot)
           irradiance *= max(cos_axis, 0.0) * smoothstep(light.spot.x, light.spot.x + light.spot.y, cos_axis);
         if (light.spot.z > 0.5) irradiance *= max(cos_axis, 0.0);
+        vec3 march_to_light = light.position.xyz - origin;
+        float march_distance = length(march_to_light);
+        march_dir = march_to_light / max(march_distance, 1e-6);
+        t_max = max(march_distance - light.direction.w, 0.0);
+        tan_radius = light.direction.w / max(march_distance, 1e-6);
       }
       float cos_surface = dot(n, dir);
       if (cos_surface <= 0.0 || dot(irradiance, irradiance) <= 0.0) continue;
       float t_min = in_sdf ? pc.march.z : 0.0;
-      float v = visibility(origin, dir, t_min, t_max, tan_radius, jitter);
+      float v = pc.visibility.x == kVisibilityShadowMaps ? shadow_map_visibility(l, p, n, in_sdf)
+                                                         : visibility(origin, march_dir, t_min, t_max, tan_radius, jitter,
+                                                                      in_sdf ? 2.0 * pc.field_grid.w : 0.0);
       vec3 direct = irradiance * cos_surface;
       color += albedo * direct * v;
       float weight = dot(direct, vec3(0.2126, 0.7152, 0.0722));

@@ -111,11 +111,51 @@ struct GBufferPush {
   uint pad1;
 };
 
+// What the shading's visibility reads (ShadePush::visibility.x).
+const uint kVisibilitySignedSdf = 0u;    // march a signed field: the fine SDF (rtsdf, rt_only)
+const uint kVisibilityUnsignedSdf = 1u;  // march an unsigned field: the coarse SDF (jfa_only)
+const uint kVisibilityShadowMaps = 2u;   // look up EVSM shadow maps (csm_evsm)
+
 struct ShadePush {
-  ivec4 image;      // x, y = size in pixels, z = light count, w = accumulation frame
-  vec4 fine_grid;   // xyz = origin, w = voxel size (world)
-  ivec4 fine_dims;  // w = shadow_max_steps
-  vec4 march;       // x = shadow_epsilon, y = max_step, z = receiver clearance at the start (all world), w = weight of this frame
+  ivec4 image;       // x, y = size in pixels, z = light count, w = accumulation frame
+  vec4 field_grid;   // the marched SDF's grid: xyz = origin, w = voxel size (world)
+  ivec4 field_dims;  // w = shadow_max_steps (0: nothing casts shadows)
+  vec4 march;        // x = shadow_epsilon, y = max_step, z = receiver clearance at the start (all world), w = weight of this frame
+  uvec4 visibility;  // x = kVisibility*, y = shadow-map tile size (texels)
+  vec4 surface;      // offsets along the normal of surfaces that cast shadows: x = the march's origin (world), y = the shadow-map lookup (texels)
+  vec4 evsm;         // x = positive exponent c+, y = negative exponent c-, z = light-bleeding reduction
+};
+
+// Shadow maps (csm_evsm). Every view (a sun's cascade, a spot light's view, a
+// face of a point or area light's cube) is one square tile of one atlas.
+struct ShadowTile {
+  mat4 world_to_clip;  // Vulkan clip space of the view (x, y in [-1, 1] across the tile, z in [0, 1])
+  vec4 depth_axis;     // view depth (world units) = dot(xyz, p) + w
+  vec4 depth_range;    // x = near, y = 1 / (far - near) (view depth), z = world size of a texel at view depth 0, w = its growth per unit depth
+  ivec4 atlas;         // xy = the tile's first texel in the atlas, z = texels kept clear of its border when picking it (the blur's reach)
+};
+
+// A light's tiles: [first, first + count), finest first.
+struct ShadowLightTiles {
+  uint first;
+  uint count;
+  uint pad0;
+  uint pad1;
+};
+
+struct ShadowMapPush {
+  mat4 object_to_world;
+  vec4 evsm;  // x = c+, y = c-
+  uint first_index;
+  uint base_vertex;
+  uint tile;  // index into the tile buffer
+  uint pad0;
+};
+
+struct EvsmBlurPush {
+  ivec4 source;  // xy = the tile's first texel in the source image, z = tile size, w = axis (0: x, 1: y)
+  ivec4 target;  // xy = the tile's first texel in the target image
+  vec4 radius;   // x = box radius in texels (the end taps weighted by the fraction)
 };
 
 #ifdef __cplusplus
@@ -123,7 +163,11 @@ static_assert(sizeof(BvhNode) == 48, "BvhNode layout");
 static_assert(sizeof(GpuLight) == 64, "GpuLight layout");
 static_assert(sizeof(FrameData) == 112, "FrameData layout");
 static_assert(sizeof(GBufferPush) == 96, "GBufferPush layout");
-static_assert(sizeof(ShadePush) == 64, "ShadePush layout");
+static_assert(sizeof(ShadePush) == 112, "ShadePush layout");
+static_assert(sizeof(ShadowTile) == 112, "ShadowTile layout");
+static_assert(sizeof(ShadowLightTiles) == 16, "ShadowLightTiles layout");
+static_assert(sizeof(ShadowMapPush) == 96, "ShadowMapPush layout");
+static_assert(sizeof(EvsmBlurPush) == 48, "EvsmBlurPush layout");
 static_assert(sizeof(RayInstance) == 144, "RayInstance layout");
 static_assert(sizeof(FinePush) == 128, "FinePush layout");
 static_assert(sizeof(VoxelizePush) == 96, "VoxelizePush layout");

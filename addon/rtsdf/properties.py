@@ -1,10 +1,20 @@
 """RTSDF settings, stored on the scene as scene.rtsdf (names as in the native core)."""
 
 import bpy
-from bpy.props import FloatProperty, IntProperty
+from bpy.props import EnumProperty, FloatProperty, IntProperty
 
 
 class RTSDFSettings(bpy.types.PropertyGroup):
+    shadow_method: EnumProperty(
+        name="Shadow Method", default="rtsdf",
+        items=(("rtsdf", "RTSDF", "Jump-flooded coarse SDF, ray-traced fine SDF near surfaces (the paper)"),
+               ("rt_only", "RT only", "Baseline: the fine SDF ray traced at every texel of its grid, every frame"),
+               ("jfa_only", "JFA only", "Baseline: shadows marched through the jump-flooded coarse SDF alone"),
+               ("csm_evsm", "CSM + EVSM", "Baseline: cascaded shadow maps filtered as exponential variance shadow maps")),
+        description="Where shadows come from; all methods share the same shading")
+    shadow_map_size: IntProperty(
+        name="Shadow Map Size", default=1024, min=64, max=4096,
+        description="CSM + EVSM: texels per side of each cascade (sun), spot light view or cube face")
     coarse_resolution: IntProperty(
         name="Coarse", default=64, min=8, max=512,
         description="Voxels on the longest axis of the coarse (jump-flooded) SDF")

@@ -1,6 +1,7 @@
 #include "passes/fine_trace.h"
 
 #include <cmath>
+#include <limits>
 #include <random>
 
 #include "shaders/shared.h"
@@ -59,9 +60,12 @@ void FineTracePass::record(VkCommandBuffer cmd, const GpuScene::RayStructures& s
   push.coarse_grid = glm::vec4(coarse_grid.origin, coarse_voxel);
   // Rays need only reach past the band: a hit farther than band + the upper
   // bound cannot lower any value the texel can hold.
-  push.params = glm::vec4(settings.decay, settings.trace_band * coarse_voxel, bias,
-                          std::min(glm::length(extent), (settings.trace_band + 2.0f) * coarse_voxel + bias));
-  push.schedule = glm::uvec4(uint32_t(settings.interleave), frame, 0u, 0u);
+  const float band = settings.trace_everywhere ? std::numeric_limits<float>::max() : settings.trace_band * coarse_voxel;
+  const float ray_length = settings.trace_everywhere
+                               ? glm::length(extent)
+                               : std::min(glm::length(extent), (settings.trace_band + 2.0f) * coarse_voxel + bias);
+  push.params = glm::vec4(settings.decay, band, bias, ray_length);
+  push.schedule = glm::uvec4(uint32_t(settings.trace_everywhere ? 1 : settings.interleave), frame, 0u, 0u);
   push.coarse_beta = glm::vec4(beta_world, 0.0f, 0.0f, 0.0f);
 
   vkCmdFillBuffer(cmd, trace_list.handle(), 0, sizeof(uint32_t), 0u);

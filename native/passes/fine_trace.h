@@ -21,6 +21,9 @@ struct FineTraceSettings {
   // the default (beta + half a coarse voxel diagonal) is an upper bound of the
   // true distance, so the min with traced hits converges from above.
   float decay_target_bias = -1.0f;  // < 0: the default
+  // The RT-only baseline: no band. Every texel of the grid is listed (the band
+  // and the interleave are ignored) and its rays are long enough to cross the grid.
+  bool trace_everywhere = false;
 };
 
 class FineTracePass {

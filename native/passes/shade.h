@@ -1,9 +1,12 @@
 #pragma once
-// Pass 3b: shading with SDF soft shadows (see shaders/shade.comp), averaged
-// into the Combined and Depth/Shadow accumulation images.
+// Pass 3b: shading with soft shadows (see shaders/shade.comp), averaged into
+// the Combined and Depth/Shadow accumulation images. Visibility marches an
+// SDF (the fine one, or the coarse one for jfa_only: push.field_* describe
+// whichever is bound) or looks up the EVSM shadow maps of csm_evsm.
 #include "grid.h"
-#include "shaders/shared.h"
 #include "passes/gbuffer.h"
+#include "passes/shadow_map.h"
+#include "shaders/shared.h"
 #include "vk/pipeline.h"
 #include "vk/resources.h"
 
@@ -12,12 +15,16 @@ namespace rtsdf {
 class ShadePass {
  public:
   explicit ShadePass(const vk::Context& context);
-  void record(VkCommandBuffer cmd, const GBufferPass& gbuffer, const vk::Image& fine, const vk::Buffer& lights,
-              const vk::Buffer& frame, const vk::Image& accum_color, const vk::Image& accum_passes,
-              const gpu::ShadePush& push) const;
+  // `shadow_maps`: only with push.visibility.x == kVisibilityShadowMaps
+  // (null: placeholders are bound in their place).
+  void record(VkCommandBuffer cmd, const GBufferPass& gbuffer, const vk::Image& field,
+              const ShadowMapPass* shadow_maps, const vk::Buffer& lights, const vk::Buffer& frame,
+              const vk::Image& accum_color, const vk::Image& accum_passes, const gpu::ShadePush& push) const;
 
  private:
   vk::Pipeline pipeline_;
+  vk::Image no_shadow_atlas_;   // 1 texel
+  vk::Buffer no_shadow_tiles_;  // one tile, and one light's empty range
 };
 
 }  // namespace rtsdf

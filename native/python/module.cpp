@@ -156,6 +156,10 @@ rtsdf::Camera camera_of(const py::dict& camera_desc) {
 
 rtsdf::RenderSettings settings_of(const py::dict& settings_desc) {
   rtsdf::RenderSettings settings;
+  // "rtsdf", "rt_only", "jfa_only" or "csm_evsm"; anything else is an rtsdf.Error.
+  settings.shadow_method = rtsdf::parse_shadow_method(
+      get<std::string>(settings_desc, "shadow_method", rtsdf::shadow_method_name(settings.shadow_method)));
+  settings.shadow_map_size = get<int>(settings_desc, "shadow_map_size", settings.shadow_map_size);
   settings.coarse_resolution = get<int>(settings_desc, "coarse_resolution", settings.coarse_resolution);
   settings.fine_resolution = get<int>(settings_desc, "fine_resolution", settings.fine_resolution);
   settings.beta = get<float>(settings_desc, "beta", settings.beta);
@@ -173,8 +177,8 @@ rtsdf::RenderSettings settings_of(const py::dict& settings_desc) {
 }
 
 py::dict timings_of(const rtsdf::RenderTimings& t) {
-  return py::dict(py::arg("sdf") = t.coarse_ms, py::arg("fine") = t.fine_ms, py::arg("shade") = t.shade_ms,
-                  py::arg("total") = t.total_ms);
+  return py::dict(py::arg("sdf") = t.coarse_ms, py::arg("fine") = t.fine_ms, py::arg("shadow_map") = t.shadow_map_ms,
+                  py::arg("shade") = t.shade_ms, py::arg("total") = t.total_ms);
 }
 
 py::array_t<float> image_of(const std::vector<float>& values, int height, int width, int channels) {
@@ -396,7 +400,9 @@ PYBIND11_MODULE(rtsdf_native, m) {
            "Renders a scene given as plain data: meshes [{positions (N,3), indices (M,3), normals (N,3) optional}], instances "
            "[{mesh, matrix 4x4 row-major, color, casts_shadow}], lights [{type SUN|POINT|SPOT|AREA, position, direction, color, "
            "energy, angle, radius, spot_size, spot_blend}], camera {world_to_view, projection (OpenGL), "
-           "orthographic}, width, height, ambient. Returns combined (H,W,4), depth, shadow (rows top to bottom) "
+           "orthographic}, width, height, ambient. settings: the RenderSettings fields by name, among them "
+           "shadow_method ('rtsdf', 'rt_only', 'jfa_only' or 'csm_evsm') and shadow_map_size (csm_evsm). "
+           "Returns combined (H,W,4), depth, shadow (rows top to bottom) "
            "and ms. progress(done, total) is called after each accumulation frame; returning False stops. "
            "persistent=True keeps the scene on the device and the fine SDF between renders when only transforms "
            "change (Blender's persistent data); the result's scene_reused tells whether it did.");

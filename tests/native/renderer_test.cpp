@@ -10,6 +10,7 @@
 #include <ImfHeader.h>
 #include <ImfInputFile.h>
 
+#include "analytic_shadow.h"
 #include "exr_output.h"
 #include "reference/shapes.h"
 #include "renderer.h"
@@ -18,35 +19,9 @@
 namespace rtsdf {
 namespace {
 
-// Share of a disk of angular radius a (the sun) hidden by a disk of radius r
-// (the sphere) whose centre is d away (small angles: planar disks).
-double hidden_share(double a, double r, double d) {
-  if (d >= a + r) return 0.0;
-  if (d <= std::abs(r - a)) return r >= a ? 1.0 : (r * r) / (a * a);
-  double alpha = std::acos((d * d + a * a - r * r) / (2 * d * a));
-  double beta = std::acos((d * d + r * r - a * a) / (2 * d * r));
-  double lens = a * a * (alpha - std::sin(2 * alpha) / 2) + r * r * (beta - std::sin(2 * beta) / 2);
-  return lens / (M_PI * a * a);
-}
-
-struct Profile {
-  double x10 = 0, x50 = 0, x90 = 0;  // where visibility crosses 0.1, 0.5, 0.9 going outwards
-  double width() const { return x90 - x10; }
-};
-
-// Scans x from `from` to 1.9 (out of the shadow into the light).
-template <typename F>
-Profile profile(F&& visibility, double from, double step) {
-  Profile p;
-  bool f10 = false, f50 = false, f90 = false;
-  for (double x = from; x < 1.9; x += step) {
-    double v = visibility(x);
-    if (!f10 && v >= 0.1) p.x10 = x, f10 = true;
-    if (!f50 && v >= 0.5) p.x50 = x, f50 = true;
-    if (!f90 && v >= 0.9) p.x90 = x, f90 = true;
-  }
-  return p;
-}
+using testing::hidden_share;
+using testing::Profile;
+using testing::profile;
 
 class RendererTest : public testing::VulkanTest {};
 

@@ -1,0 +1,217 @@
+// The shadow-method baselines (rtsdf, rt_only, jfa_only, csm_evsm): the same
+// sphere over a ground as RendererTest.SpherePenumbraMatchesAnalyticWidth,
+// small and with few samples, against the analytic soft shadow.
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <glm/gtc/matrix_transform.hpp>
+#include <string>
+
+#include "analytic_shadow.h"
+#include "reference/shapes.h"
+#include "renderer.h"
+#include "vulkan_test.h"
+
+namespace rtsdf {
+namespace {
+
+using testing::Profile;
+using testing::profile;
+using testing::sphere_visibility;
+
+constexpr float kRadius = 0.5f, kHeight = 1.0f;  // the sphere, centred above the origin
+constexpr int kSize = 64;                         // pixels over the 4 x 4 view
+
+// One renderer for the whole file: its pipelines are compiled once.
+Renderer& shared_renderer() {
+  static Renderer renderer(testing::VulkanTest::context());
+  return renderer;
+}
+
+Scene sphere_over_ground() {
+  Scene scene;
+  scene.meshes = {reference::uv_sphere({0, 0, kHeight}, kRadius, 48), reference::sheet({-20, -20}, {20, 20}, 0.0f)};
+  scene.instances = {{0, glm::mat4(1.0f), glm::vec3(0.8f)}, {1, glm::mat4(1.0f), glm::vec3(0.8f)}};
+  return scene;
+}
+
+Camera top_view() {  // orthographic, straight down, x and y in [-2, 2]
+  Camera camera;
+  camera.world_to_view = glm::lookAt(glm::vec3(0, 0, 10), glm::vec3(0, 0, 0), glm::vec3(0, 1, 0));
+  camera.projection = glm::orthoRH_NO(-2.0f, 2.0f, -2.0f, 2.0f, 0.1f, 20.0f);
+  camera.orthographic = true;
+  return camera;
+}
+
+// Settings small enough for a test: coarser grids, few samples.
+RenderSettings small_settings(ShadowMethod method) {
+  RenderSettings settings;
+  settings.shadow_method = method;
+  settings.coarse_resolution = 32;
+  settings.fine_resolution = 64;
+  settings.samples = 3;
+  settings.shadow_map_size = 512;
+  return settings;
+}
+
+// The shadow pass along the row through y = 0: pixel i covers x = -2 + (i + 0.5) * 4 / size.
+struct Row {
+  const RenderOutput& out;
+  double operator()(double x) const { return at(x, 0.0); }
+  double at(double x, double y) const {  // (rows top to bottom: +y first)
+    int i = std::clamp(int((x + 2.0) / 4.0 * kSize), 0, kSize - 1);
+    int j = std::clamp(int((2.0 - y) / 4.0 * kSize), 0, kSize - 1);
+    return double(out.shadow[size_t(j) * kSize + i]);
+  }
+  double mean(double from, double to) const {
+    double sum = 0.0;
+    int n = 0;
+    for (double x = from; x <= to; x += 4.0 / kSize) sum += (*this)(x), ++n;
+    return sum / n;
+  }
+};
+
+// The size of the unit the method's shadow edge is quantized to: a voxel of
+// the field it marches, or a texel of the shadow map.
+double method_unit(ShadowMethod method, const GpuScene& scene, const RenderSettings& settings,
+                   const Renderer& renderer) {
+  const GridSpec coarse = fit_grid(scene.bounds(), settings.coarse_resolution);
+  switch (method) {
+    case ShadowMethod::Rtsdf:
+    case ShadowMethod::RtOnly:
+      return FineSdf::fit(coarse, settings.fine_resolution).voxel_size;
+    case ShadowMethod::JfaOnly:
+      return coarse.voxel_size;
+    case ShadowMethod::CsmEvsm:
+      break;
+  }
+  double texel = 0.0;
+  for (const gpu::ShadowTile& tile : renderer.shadow_maps()->tile_data())
+    texel = std::max(texel, double(tile.depth_range.z + tile.depth_range.w * 4.0f));  // (a view depth of 4 at most here)
+  return texel;
+}
+
+class ShadowMethodsTest : public testing::VulkanTest, public ::testing::WithParamInterface<const char*> {};
+class ShadowMapsTest : public testing::VulkanTest {};
+class RtOnlyTest : public testing::VulkanTest {};
+
+// A 10 degree sun at 45 degrees, shining towards +x: the shadow's centre is
+// at x = 1, its far edge (half the sun hidden) near x = 1.69.
+TEST_P(ShadowMethodsTest, SphereShadowUnderSun) {
+  const ShadowMethod method = parse_shadow_method(GetParam());
+  GpuScene scene(context(), sphere_over_ground());
+  const double tilt = M_PI / 4, sun_angle = 10.0 * M_PI / 180.0;
+  Light sun;
+  sun.type = LightType::Sun;
+  sun.direction = {float(std::sin(tilt)), 0, -float(std::cos(tilt))};
+  sun.energy = 3.0f;
+  sun.sun_angle = float(sun_angle);
+  const RenderSettings settings = small_settings(method);
+  Renderer& renderer = shared_renderer();
+  const RenderOutput out = renderer.render(scene, top_view(), {sun}, glm::vec3(0.05f), kSize, kSize, settings);
+  ASSERT_EQ(out.shadow.size(), size_t(kSize * kSize));
+
+  const Row rendered{out};
+  auto exact = [&](double x) {
+    return sphere_visibility({x, 0, 0}, {-std::sin(tilt), 0, std::cos(tilt)}, 0.5 * sun_angle, {0, 0, kHeight}, kRadius);
+  };
+  const Profile r = profile(rendered, 1.0, 4.0 / kSize, 2.0), e = profile(exact, 1.0, 0.001, 2.0);
+  const double unit = method_unit(method, scene, settings, renderer), pixel = 4.0 / kSize;
+  const double beside = std::min(rendered.at(1.0, 1.5), rendered.at(1.0, -1.5));
+  std::printf("%s: umbra %.3f, lit %.3f / %.3f / %.3f; 50%% at %.3f vs %.3f (unit %.4f); 10-90%% %.3f vs %.3f; "
+              "%.0f ms (coarse %.0f, fine %.0f, maps %.0f, shade %.0f)\n",
+              GetParam(), rendered(1.0), rendered.mean(-1.9, -0.9), beside, rendered(1.97), r.x50, e.x50, unit,
+              r.width(), e.width(), out.timings.total_ms, out.timings.coarse_ms, out.timings.fine_ms,
+              out.timings.shadow_map_ms, out.timings.shade_ms);
+  EXPECT_LT(rendered(1.0), 0.15) << "umbra at the shadow's centre";
+  EXPECT_GT(rendered.mean(-1.9, -0.9), 0.95) << "lit on the sun's side of the sphere";
+  // (Not right past the far edge: jfa_only's penumbra reaches further out, by
+  // the thickness of the coarse field's shell.)
+  EXPECT_GT(beside, 0.95) << "lit a unit to either side of the shadow";
+  EXPECT_NEAR(r.x50, e.x50, 3.0 * unit + pixel) << "the shadow's edge (half the sun hidden) within 3 voxels or texels";
+  // jfa_only and csm_evsm trace no rays: no BVH is built for them.
+  if (method == ShadowMethod::JfaOnly || method == ShadowMethod::CsmEvsm)
+    EXPECT_EQ(scene.bvh_build_ms(), 0.0) << "no BVH built";
+}
+
+INSTANTIATE_TEST_SUITE_P(AllMethods, ShadowMethodsTest, ::testing::Values("rtsdf", "rt_only", "jfa_only", "csm_evsm"),
+                         [](const ::testing::TestParamInfo<const char*>& info) { return std::string(info.param); });
+
+// csm_evsm with a light of radius 0.15 up and to the -x side of the sphere:
+// along y = 0 the shadow's far edge (half the light hidden) is near x = 1.23.
+// A spot aimed past the sphere at the ground gets one perspective view, a
+// point light a cube of six.
+void check_local_light_shadow(LightType type, size_t tiles) {
+  GpuScene scene(testing::VulkanTest::context(), sphere_over_ground());
+  Light light;
+  light.type = type;
+  light.position = {-1.0f, 0.0f, 3.5f};
+  light.direction = glm::vec3(0.4f, 0.0f, 0.0f) - light.position;
+  light.energy = 500.0f;
+  light.radius = 0.15f;
+  light.spot_size = float(M_PI / 2);
+  light.spot_blend = 0.1f;
+  const RenderSettings settings = small_settings(ShadowMethod::CsmEvsm);
+  Renderer& renderer = shared_renderer();
+  const RenderOutput out = renderer.render(scene, top_view(), {light}, glm::vec3(0.05f), kSize, kSize, settings);
+  ASSERT_EQ(renderer.shadow_maps()->tile_data().size(), tiles);
+
+  const Row rendered{out};
+  const glm::dvec3 position(light.position);
+  auto exact = [&](double x) {
+    const glm::dvec3 point(x, 0, 0);
+    const double distance = glm::length(position - point);
+    return sphere_visibility(point, (position - point) / distance, std::asin(light.radius / distance),
+                             {0, 0, kHeight}, kRadius);
+  };
+  const Profile r = profile(rendered, 0.85, 4.0 / kSize), e = profile(exact, 0.85, 0.001);
+  const double unit = method_unit(ShadowMethod::CsmEvsm, scene, settings, renderer), pixel = 4.0 / kSize;
+  std::printf("csm_evsm, %zu tile(s): umbra %.3f, lit %.3f / %.3f; 50%% at %.3f vs %.3f (texel %.4f); "
+              "10-90%% %.3f vs %.3f\n", tiles, rendered(0.85), rendered.mean(-1.9, -1.2), rendered.mean(1.6, 1.9),
+              r.x50, e.x50, unit, r.width(), e.width());
+  EXPECT_LT(rendered(0.85), 0.15) << "umbra";
+  EXPECT_GT(rendered.mean(-1.9, -1.2), 0.95) << "lit between the light and the sphere";
+  EXPECT_GT(rendered.mean(1.6, 1.9), 0.95) << "lit beyond the shadow";
+  EXPECT_NEAR(r.x50, e.x50, 3.0 * unit + pixel) << "the shadow's edge within 3 texels";
+}
+
+TEST_F(ShadowMapsTest, SphereShadowUnderSpot) { check_local_light_shadow(LightType::Spot, 1); }
+TEST_F(ShadowMapsTest, SphereShadowUnderPointLightCube) { check_local_light_shadow(LightType::Point, 6); }
+
+// rt_only's fine SDF: every texel of the grid is listed each frame (no band,
+// no interleave), where rtsdf lists only the band.
+TEST_F(RtOnlyTest, TracesEveryTexelEveryFrame) {
+  GpuScene scene(context(), single_mesh_scene(reference::uv_sphere({0, 0, 0}, 1.0f, 24)));
+  CoarseSdf coarse(context());
+  coarse.build(scene, fit_grid(scene.bounds(), 16), 0.5f);
+  const GridSpec grid = FineSdf::fit(coarse.grid(), 32);
+  FineTraceSettings band, everywhere;
+  band.rays_per_texel = everywhere.rays_per_texel = 2;  // (what is listed is the point here)
+  everywhere.trace_everywhere = true;
+  everywhere.interleave = 4;  // (ignored)
+  FineSdf fine(context());
+  fine.update(scene, coarse, grid, band);
+  const uint32_t band_texels = fine.read_traced_texels();
+  fine.reset();
+  for (int frame = 0; frame < 2; ++frame) {
+    fine.update(scene, coarse, grid, everywhere);
+    EXPECT_EQ(fine.read_traced_texels(), grid.voxel_count()) << "frame " << frame;
+  }
+  EXPECT_LT(band_texels, grid.voxel_count()) << "rtsdf traces a band only";
+}
+
+TEST(ShadowMethodNames, ParseAndNameRoundTripAndUnknownNamesAreErrors) {
+  for (const char* name : {"rtsdf", "rt_only", "jfa_only", "csm_evsm"})
+    EXPECT_STREQ(shadow_method_name(parse_shadow_method(name)), name);
+  EXPECT_EQ(RenderSettings{}.shadow_method, ShadowMethod::Rtsdf);
+  try {
+    parse_shadow_method("pcss");
+    ADD_FAILURE() << "no error for an unknown method";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("'pcss'"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("csm_evsm"), std::string::npos) << "lists the known names: " << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace rtsdf
