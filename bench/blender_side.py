@@ -78,6 +78,8 @@ def prepare():
     after = None
     if mover is not None:
         # A move of the object's own size across the ground (x), so its old shadow is clear of the new one.
+        # (Its animation, if any, would put it back on evaluation: this Blender session is thrown away.)
+        mover.animation_data_clear()
         mover.location += Vector((max(mover.dimensions), 0.0, 0.0))
         depsgraph = bpy.context.evaluated_depsgraph_get()
         after = sync.extract(depsgraph)
@@ -101,7 +103,7 @@ def eevee():
     scene.eevee.use_soft_shadows = True
     scene.eevee.use_gtao = False
     scene.eevee.use_ssr = False
-    sweep = [("1024", 16), ("4096", 16)] if QUICK else [("1024", 16), ("2048", 16), ("4096", 16), ("4096", 64)]
+    sweep = [("4096", 16)] if QUICK else [("1024", 16), ("2048", 16), ("4096", 16), ("4096", 64)]
     results = []
     for cascade, samples in sweep:
         scene.eevee.shadow_cascade_size = cascade

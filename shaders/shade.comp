@@ -86,7 +86,11 @@ float disk_visible(float r) {
 // escape: how far along the ray negative samples are skipped until the first
 // non-negative one: a receiver that is itself in the SDF may start inside its
 // own shell (thin pieces read as slabs a voxel thick on either side).
-float visibility(vec3 origin, vec3 dir, float t_min, float t_max, float tan_radius, float jitter, float escape) {
+// own_normal (0: none): samples whose clearance is the distance to the
+// receiver's own tangent plane are not counted: near-tangent cones (the sky's)
+// would otherwise see the receiver itself.
+float visibility(vec3 origin, vec3 dir, float t_min, float t_max, float tan_radius, float jitter, float escape,
+                 vec3 own_normal) {
   float epsilon = pc.march.x, max_step = pc.march.y;
   // Only the part inside the grid can meet a caster: surfaces outside it (a
   // ground the grid was not fitted to) march from where their ray enters it.
@@ -132,7 +136,8 @@ float visibility(vec3 origin, vec3 dir, float t_min, float t_max, float tan_radi
         if (y > 0.0 && y < h && t - y > t_start) clearance = sqrt(h * h - y * y), at = t - y;
       }
       float w = tan_radius * max(at, 1e-6);
-      ratio = min(ratio, clearance / w);
+      bool own_plane = h >= t * dot(dir, own_normal) - 0.5 * epsilon && dot(own_normal, own_normal) > 0.0;
+      if (!own_plane) ratio = min(ratio, clearance / w);
       if (ratio <= -1.0) return 0.0;
     }
     previous_h = h;
@@ -142,6 +147,27 @@ float visibility(vec3 origin, vec3 dir, float t_min, float t_max, float tan_radi
     t += step;
   }
   return tan_radius <= 0.0 ? 1.0 : disk_visible(ratio);
+}
+
+// Share of the world light (the sky, uniform) reaching p: two cone marches
+// per frame over the hemisphere around n, cosine-distributed and turned every
+// frame, so that accumulation averages many. Cycles' direct light includes
+// the world, occluded by the scene: without this, a room lit through a
+// window glowed everywhere with the world colour. Shadow maps have no view
+// of the sky: csm_evsm leaves the world light unoccluded.
+float sky_visibility(vec3 origin, vec3 n, bool in_sdf, float jitter, ivec2 pixel) {
+  vec3 t = normalize(abs(n.z) < 0.9 ? cross(n, vec3(0.0, 0.0, 1.0)) : cross(n, vec3(1.0, 0.0, 0.0)));
+  vec3 b = cross(n, t);
+  float sum = 0.0;
+  for (uint k = 0u; k < 2u; ++k) {
+    float u1 = hash(uvec3(pixel, uint(pc.image.w) * 4u + 2u * k + 1u));
+    float u2 = hash(uvec3(pixel.yx, uint(pc.image.w) * 4u + 2u * k + 2u));
+    float r = sqrt(u1), phi = 6.2831853 * u2;
+    vec3 dir = normalize(t * (r * cos(phi)) + b * (r * sin(phi)) + n * sqrt(max(1.0 - u1, 0.0)));
+    sum += visibility(origin, dir, in_sdf ? pc.march.z : 0.0, 1e10, 0.35, jitter, in_sdf ? 2.0 * pc.field_grid.w : 0.0,
+                      in_sdf ? n : vec3(0.0));
+  }
+  return 0.5 * sum;
 }
 
 // Bilinear sample of a tile's moments at `texel` (continuous, 0 to size across the tile).
@@ -210,7 +236,6 @@ void main() {
     vec3 albedo = albedo_in_sdf.rgb;
     bool in_sdf = albedo_in_sdf.a > 0.5;
     depth = dot(p - frame.camera_position.xyz, frame.camera_forward.xyz);
-    color = albedo * frame.ambient.rgb;
     float lit = 0.0, unshadowed = 0.0;
     float jitter = hash(uvec3(pixel, uint(pc.image.w)));
     // The march follows the ray from the shading point itself (an offset along
@@ -222,6 +247,9 @@ void main() {
     // a quarter voxel of the fine SDF, more for the thick shell of the
     // unsigned coarse one) keeps a caster's march off its own surface.
     vec3 origin = in_sdf ? p + n * pc.surface.x : p;
+    float sky = pc.visibility.x == kVisibilityShadowMaps || dot(frame.ambient.rgb, frame.ambient.rgb) <= 0.0
+                    ? 1.0 : sky_visibility(origin, n, in_sdf, jitter, pixel);
+    color = albedo * frame.ambient.rgb * sky;
     for (int l = 0; l < pc.image.z; ++l) {
       GpuLight light = lights[l];
       uint type = uint(light.position.w);
@@ -254,7 +282,7 @@ void main() {
       float t_min = in_sdf ? pc.march.z : 0.0;
       float v = pc.visibility.x == kVisibilityShadowMaps ? shadow_map_visibility(l, p, n, in_sdf)
                                                          : visibility(origin, march_dir, t_min, t_max, tan_radius, jitter,
-                                                                      in_sdf ? 2.0 * pc.field_grid.w : 0.0);
+                                                                      in_sdf ? 2.0 * pc.field_grid.w : 0.0, vec3(0.0));
       vec3 direct = irradiance * cos_surface;
       color += albedo * direct * v;
       float weight = dot(direct, vec3(0.2126, 0.7152, 0.0722));

@@ -208,3 +208,37 @@ TEST_F(RendererTest, WritesAllPassesToOpenExr) {
 
 }  // namespace
 }  // namespace rtsdf
+
+namespace rtsdf {
+namespace {
+
+// The world light is occluded through the SDF: the ground under a wide roof
+// sees little sky, the open ground all of it.
+TEST_F(RendererTest, WorldLightIsOccludedUnderARoof) {
+  Scene scene;
+  scene.meshes = {reference::box({-1.5f, -1.5f, 0.6f}, {1.5f, 1.5f, 0.8f}), reference::sheet({-20, -20}, {20, 20}, 0.0f)};
+  scene.instances = {{0, glm::mat4(1.0f)}, {1, glm::mat4(1.0f)}};
+  GpuScene gpu_scene(context(), scene);
+  Camera camera;  // orthographic, straight down: the roof and the ground around it
+  camera.world_to_view = glm::lookAt(glm::vec3(0, 0, 10), glm::vec3(0, 0, 0), glm::vec3(0, 1, 0));
+  camera.projection = glm::orthoRH_NO(-4.0f, 4.0f, -4.0f, 4.0f, 0.1f, 20.0f);
+  camera.orthographic = true;
+  RenderSettings settings;
+  settings.samples = 16;
+  const int size = 64;
+  Renderer renderer(context());
+  // No lights: only the world colour (0.5) lights the ground (albedo 0.8).
+  RenderOutput out = renderer.render(gpu_scene, camera, {}, glm::vec3(0.5f), size, size, settings);
+  auto ground_at = [&](double x) {  // pixel on the row y = 0 at world x
+    const int i = std::clamp(int((x + 4.0) / 8.0 * size), 0, size - 1);
+    return out.combined[4 * (size_t(size / 2) * size + i)];
+  };
+  const float open = 0.8f * 0.5f;
+  EXPECT_NEAR(ground_at(3.7), open, 0.03f * open) << "open ground sees the whole sky";
+  EXPECT_LT(ground_at(1.7) , open) << "next to the roof, part of the sky is hidden";
+  EXPECT_NEAR(out.combined[4 * (size_t(size / 2) * size + size / 2)], 0.8f * 0.5f, 0.01f)
+      << "the roof's top (seen from above) sees the whole sky";
+}
+
+}  // namespace
+}  // namespace rtsdf
