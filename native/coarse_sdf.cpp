@@ -39,12 +39,7 @@ void CoarseSdf::allocate(const GridSpec& grid) {
   flood_a_ = vk::Image(context_, grid.dims, VK_FORMAT_R32_UINT, kGridUsage);
   flood_b_ = vk::Image(context_, grid.dims, VK_FORMAT_R32_UINT, kGridUsage);
   distance_ = vk::Image(context_, grid.dims, VK_FORMAT_R32_SFLOAT, kGridUsage | VK_IMAGE_USAGE_SAMPLED_BIT);
-  context_.submit_and_wait([&](VkCommandBuffer cmd) {
-    for (const vk::Image* image : {&seeds_, &flood_a_, &flood_b_, &distance_})
-      vk::image_barrier(cmd, image->handle(), VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL, 0,
-                        VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT,
-                        VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT);
-  });
+  vk::make_general(context_, {&seeds_, &flood_a_, &flood_b_, &distance_});
 }
 
 void CoarseSdf::build(const GpuScene& scene, const GridSpec& grid, float beta_voxels) {

@@ -41,12 +41,7 @@ void FineSdf::allocate(const GridSpec& grid) {
   dispatch_ = vk::Buffer(context_, 4 * sizeof(uint32_t),
                          VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT,
                          vk::Buffer::Access::DeviceOnly);
-  context_.submit_and_wait([&](VkCommandBuffer cmd) {
-    for (const vk::Image* image : {&distance_, &hit_counts_})
-      vk::image_barrier(cmd, image->handle(), VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL, 0,
-                        VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT,
-                        VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT);
-  });
+  vk::make_general(context_, {&distance_, &hit_counts_});
   grid_ = grid;
   frame_ = 0;
 }

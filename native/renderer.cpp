@@ -122,11 +122,7 @@ void Renderer::rebuild_sdfs(GpuScene& scene, const RenderSettings& settings) {
     // texels (a depth of one would make a 2D image, which an image3D cannot bind).
     no_casters_field_ = std::make_unique<vk::Image>(context_, glm::ivec3(1, 1, 2), VK_FORMAT_R32_SFLOAT,
                                                     VK_IMAGE_USAGE_STORAGE_BIT);
-    context_.submit_and_wait([&](VkCommandBuffer cmd) {
-      vk::image_barrier(cmd, no_casters_field_->handle(), VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL, 0,
-                        VK_ACCESS_SHADER_READ_BIT, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT,
-                        VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT);
-    });
+    vk::make_general(context_, {no_casters_field_.get()});
   }
 }
 
@@ -160,12 +156,7 @@ void Renderer::begin(GpuScene& scene, const Camera& camera, const std::vector<Li
     const VkImageUsageFlags usage = VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
     accum_color_ = vk::Image::plane(context_, width, height, VK_FORMAT_R32G32B32A32_SFLOAT, usage);
     accum_passes_ = vk::Image::plane(context_, width, height, VK_FORMAT_R32G32_SFLOAT, usage);
-    context_.submit_and_wait([&](VkCommandBuffer cmd) {
-      for (const vk::Image* image : {&accum_color_, &accum_passes_})
-        vk::image_barrier(cmd, image->handle(), VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL, 0,
-                          VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT,
-                          VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT);
-    });
+    vk::make_general(context_, {&accum_color_, &accum_passes_});
   }
   width_ = width;
   height_ = height;

@@ -18,11 +18,7 @@ ShadePass::ShadePass(const vk::Context& context)
       no_shadow_atlas_(vk::Image::plane(context, 1, 1, VK_FORMAT_R32G32B32A32_SFLOAT, VK_IMAGE_USAGE_STORAGE_BIT)),
       no_shadow_tiles_(context, sizeof(gpu::ShadowTile), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
                        vk::Buffer::Access::DeviceOnly) {
-  context.submit_and_wait([&](VkCommandBuffer cmd) {
-    vk::image_barrier(cmd, no_shadow_atlas_.handle(), VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL, 0,
-                      VK_ACCESS_SHADER_READ_BIT, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT,
-                      VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT);
-  });
+  vk::make_general(context, {&no_shadow_atlas_});
 }
 
 void ShadePass::record(VkCommandBuffer cmd, const GBufferPass& gbuffer, const vk::Image& field,

@@ -246,12 +246,7 @@ void ShadowMapPass::setup(const GpuScene& scene, const std::vector<Light>& light
                                                      uint32_t(texels.y),
                                                      std::vector<VkImageView>{moments_.view(), depth_.view()});
     // GENERAL from the start: shading may read the atlas before anything is rendered into it.
-    context_.submit_and_wait([&](VkCommandBuffer cmd) {
-      for (const vk::Image* image : {&moments_, &blur_scratch_})
-        vk::image_barrier(cmd, image->handle(), VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL, 0,
-                          VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT,
-                          VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT);
-    });
+    vk::make_general(context_, {&moments_, &blur_scratch_});
     tile_size_ = size;
     atlas_tiles_ = grid;
   }

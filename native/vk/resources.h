@@ -4,6 +4,7 @@
 #include <volk.h>
 
 #include <cstddef>
+#include <initializer_list>
 #include <glm/glm.hpp>
 
 namespace rtsdf::vk {
@@ -74,6 +75,10 @@ void image_barrier(VkCommandBuffer cmd, VkImage image, VkImageLayout from, VkIma
                    VkPipelineStageFlags dst_stage);
 void memory_barrier(VkCommandBuffer cmd, VkAccessFlags src_access, VkAccessFlags dst_access,
                     VkPipelineStageFlags src_stage, VkPipelineStageFlags dst_stage);
+
+// Moves freshly created colour images into GENERAL, the layout every pass
+// uses them in (storage images), before any pass touches them.
+void make_general(const Context& context, std::initializer_list<const Image*> images);
 
 // Copies a whole colour image (in GENERAL layout) into a host-visible buffer and returns it.
 Buffer download_image(const Context& context, const Image& image, VkDeviceSize bytes_per_texel);
