@@ -54,11 +54,12 @@ def cycles(shadows):
 
 def moving_object():
     """The object whose move the ghosting test follows: 'Sphere' if there is one, else the largest
-    shadow-casting mesh that is not the ground."""
+    shadow-casting mesh that is not flat (a ground or a wall)."""
     objects = bpy.data.objects
     if "Sphere" in objects:
         return objects["Sphere"]
-    candidates = [o for o in objects if o.type == "MESH" and o.name != "Ground" and o.visible_shadow]
+    candidates = [o for o in objects if o.type == "MESH" and o.name != "Ground" and o.visible_shadow
+                  and min(o.dimensions) > 0.01 * max(o.dimensions)]
     return max(candidates, key=lambda o: max(o.dimensions)) if candidates else None
 
 
