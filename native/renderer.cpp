@@ -134,8 +134,13 @@ void Renderer::begin(GpuScene& scene, const Camera& camera, const std::vector<Li
   timings_ = {};
 
   // The SDFs hold only what can shadow something, on grids fitted to it.
+  // Which instances those are depends on the geometry and the lights, not the
+  // view: a camera move in the viewport skips the search over every vertex.
   const std::vector<uint32_t> casters_before = scene.shadow_casters();
-  scene.set_shadow_casters(find_shadow_casters(scene.scene(), lights));
+  const bool same_lights = gpu_lights.size() == lights_.size() &&
+                           std::memcmp(gpu_lights.data(), lights_.data(), gpu_lights.size() * sizeof(gpu::GpuLight)) == 0;
+  if (scene_changed || scene_ != &scene || !same_lights)
+    scene.set_shadow_casters(find_shadow_casters(scene.scene(), lights));
   if (scene_changed || scene_ != &scene || scene.shadow_casters() != casters_before ||
       settings.coarse_resolution != settings_.coarse_resolution ||
       settings.fine_resolution != settings_.fine_resolution || settings.beta != settings_.beta ||
@@ -146,6 +151,7 @@ void Renderer::begin(GpuScene& scene, const Camera& camera, const std::vector<Li
   timings_.coarse_ms = ms_since(start);
 
   light_count_ = int(gpu_lights.size());
+  lights_ = gpu_lights;
   light_buffer_ = vk::upload_buffer(context_, gpu_lights.data(), gpu_lights.size() * sizeof(gpu::GpuLight),
                                     VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
   if (!frame_buffer_.handle())
