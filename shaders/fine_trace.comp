@@ -3,8 +3,9 @@
 // Fine SDF, step 3: each listed texel casts rays_per_texel rays (a spherical
 // Fibonacci set turned by a new rotation every frame) and updates
 //   f_t = min(alpha * f_{t-1} + (1 - alpha) * (c_t + bias), r_t)
-// with r_t the smallest distance from the texel to a triangle a ray hit. Front/back hit counts decay with alpha too; the
-// texel is inside (negative) when back faces outnumber front faces.
+// with r_t the smallest distance from the texel to a triangle a ray hit. The
+// texel is inside (negative) when back faces outnumber front faces (see the
+// sign below).
 // Back faces mean "inside" only on closed surfaces: behind a one-sided sheet
 // they would mark the whole band as inside, and shadows would spread from it;
 // and a closed piece thinner than a voxel has no texel inside it, so marches
@@ -69,7 +70,14 @@ void main() {
   float alpha = pc.params.x;
   float target = max(c + pc.params.z, 0.0);  // params.z = 0: the paper's c_t
   vec4 history = first_frame ? vec4(0.0, 0.0, target, pc.params.w) : imageLoad(hit_counts, p);
-  vec2 counts = alpha * history.xy + hits;
+  // The sign. From outside a closed surface a ray meets a front face first,
+  // from inside a back face: on clean meshes every frame's hits agree, and
+  // they are taken as they are (no rays met one: outside). Remembered counts
+  // would keep a moved object's inside where it was for many frames - its
+  // ghost. Only where hits disagree (overlapping or self-intersecting
+  // pieces) does the decayed history vote along.
+  bool unanimous = hits.x == 0.0 || hits.y == 0.0;
+  vec2 counts = (unanimous ? vec2(0.0) : alpha * history.xy) + hits;
   float f = min(alpha * history.z + (1.0 - alpha) * target, nearest);
   float g = min(alpha * history.w + (1.0 - alpha) * pc.params.w, nearest_slab);
   imageStore(hit_counts, p, vec4(counts, f, g));

@@ -169,6 +169,45 @@ TEST_F(FineSdfTest, MovedSphereOldPlaceRecoversWithinDecayBound) {
   EXPECT_LE(recovered_at, bound);
 }
 
+// The sign must follow a moved object at once: texels the sphere has left
+// (inside it before, well outside it now) read positive after one update.
+// Hit counts decaying with the distance kept the old inside for tens of
+// frames: a dark ghost of the old shadow in the viewport.
+TEST_F(FineSdfTest, MovedSphereLeavesNoInsideBehind) {
+  const float radius = 0.35f;
+  Scene scene;
+  scene.meshes = {reference::uv_sphere({0, 0, 0}, radius, 48), reference::box({-1, -1, -1}, {-0.98f, -0.98f, -0.98f})};
+  reference::append(scene.meshes[1], reference::box({0.98f, 0.98f, 0.98f}, {1, 1, 1}));  // pin the grid
+  const glm::vec3 before(-0.25f, 0, 0), after(0.25f, 0, 0);
+  scene.instances = {{0, glm::translate(glm::mat4(1.0f), before)}, {1, glm::mat4(1.0f)}};
+  GpuScene gpu_scene(context(), scene);
+  CoarseSdf coarse(context());
+  FineSdf fine(context());
+  const GridSpec coarse_grid = fit_grid(gpu_scene.bounds(), 32);
+  const GridSpec grid = FineSdf::fit(coarse_grid, 64);
+  auto frame = [&] {
+    coarse.build(gpu_scene, coarse_grid, 0.5f);
+    fine.update(gpu_scene, coarse, grid, FineTraceSettings{});
+  };
+  for (int f = 0; f < 16; ++f) frame();
+  gpu_scene.set_transforms({glm::translate(glm::mat4(1.0f), after), glm::mat4(1.0f)});
+  frame();
+  std::vector<float> values = fine.read_distance();
+  size_t left = 0, still_inside = 0;
+  for (int z = 0; z < grid.dims.z; ++z)
+    for (int y = 0; y < grid.dims.y; ++y)
+      for (int x = 0; x < grid.dims.x; ++x) {
+        glm::vec3 p = grid.voxel_center({x, y, z});
+        if (glm::length(p - before) - radius > -grid.voxel_size || glm::length(p - after) - radius < grid.voxel_size)
+          continue;
+        left++;
+        still_inside += values[size_t(x) + size_t(grid.dims.x) * (y + size_t(grid.dims.y) * z)] < 0.0f;
+      }
+  std::printf("moved sphere: %zu of %zu texels it left still read inside after one frame\n", still_inside, left);
+  ASSERT_GT(left, 500u);
+  EXPECT_EQ(still_inside, 0u);
+}
+
 }  // namespace
 }  // namespace rtsdf
 
