@@ -113,6 +113,8 @@ class Renderer {
   const RenderTimings& timings() const { return timings_; }
   // The accumulated image so far; the depth and shadow passes only if asked.
   RenderOutput read(bool passes = true) const;
+  // The fine SDF as the last frame left it (its grid is empty before the first update).
+  const FineSdf& fine_sdf() const { return fine_; }
   // csm_evsm's shadow maps as begin() fitted them (null before its first use).
   const ShadowMapPass* shadow_maps() const { return shadow_maps_.get(); }
 

@@ -89,8 +89,12 @@ float disk_visible(float r) {
 // own_normal (0: none): samples whose clearance is the distance to the
 // receiver's own tangent plane are not counted: near-tangent cones (the sky's)
 // would otherwise see the receiver itself.
+// axis_blocks: a cone whose axis enters an occluder sees nothing. For the
+// sky's wide cones: the clearance inside an occluder tells how thick it is,
+// not how far it reaches sideways, and through a room's walls (far thinner
+// than the cone is wide) about half the sky shone in.
 float visibility(vec3 origin, vec3 dir, float t_min, float t_max, float tan_radius, float jitter, float escape,
-                 vec3 own_normal) {
+                 vec3 own_normal, bool axis_blocks) {
   float epsilon = pc.march.x, max_step = pc.march.y;
   // Only the part inside the grid can meet a caster: surfaces outside it (a
   // ground the grid was not fitted to) march from where their ray enters it.
@@ -124,6 +128,7 @@ float visibility(vec3 origin, vec3 dir, float t_min, float t_max, float tan_radi
     } else if (deep_inside || (have_previous && previous_h < 0.0 && h - previous_h > step + pc.field_grid.w)) {
       deep_inside = true, h = -h;
     }
+    if (h < 0.0 && axis_blocks) return 0.0;
     if (tan_radius <= 0.0) {
       if (!unsigned_field && h < epsilon) return 0.0;
     } else {
@@ -165,7 +170,7 @@ float sky_visibility(vec3 origin, vec3 n, bool in_sdf, float jitter, ivec2 pixel
     float r = sqrt(u1), phi = 6.2831853 * u2;
     vec3 dir = normalize(t * (r * cos(phi)) + b * (r * sin(phi)) + n * sqrt(max(1.0 - u1, 0.0)));
     sum += visibility(origin, dir, in_sdf ? pc.march.z : 0.0, 1e10, 0.35, jitter, in_sdf ? 2.0 * pc.field_grid.w : 0.0,
-                      in_sdf ? n : vec3(0.0));
+                      in_sdf ? n : vec3(0.0), true);
   }
   return 0.5 * sum;
 }
@@ -282,7 +287,7 @@ void main() {
       float t_min = in_sdf ? pc.march.z : 0.0;
       float v = pc.visibility.x == kVisibilityShadowMaps ? shadow_map_visibility(l, p, n, in_sdf)
                                                          : visibility(origin, march_dir, t_min, t_max, tan_radius, jitter,
-                                                                      in_sdf ? 2.0 * pc.field_grid.w : 0.0, vec3(0.0));
+                                                                      in_sdf ? 2.0 * pc.field_grid.w : 0.0, vec3(0.0), false);
       vec3 direct = irradiance * cos_surface;
       color += albedo * direct * v;
       float weight = dot(direct, vec3(0.2126, 0.7152, 0.0722));

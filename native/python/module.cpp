@@ -271,6 +271,23 @@ class Viewport {
     return result;
   }
 
+  // The fine SDF as the last draw left it, for inspection: {origin, voxel_size,
+  // distance (z, y, x)}; None before the first fine-SDF update.
+  py::object fine_sdf() const {
+    const rtsdf::FineSdf& fine = renderer_.fine_sdf();
+    const rtsdf::GridSpec& grid = fine.grid();
+    if (grid.voxel_count() == 0) return py::none();
+    std::vector<float> values;
+    {
+      py::gil_scoped_release release;
+      values = fine.read_distance();
+    }
+    py::array_t<float> distance({grid.dims.z, grid.dims.y, grid.dims.x});
+    std::copy(values.begin(), values.end(), distance.mutable_data());
+    return py::dict(py::arg("origin") = py::make_tuple(grid.origin.x, grid.origin.y, grid.origin.z),
+                    py::arg("voxel_size") = grid.voxel_size, py::arg("distance") = distance);
+  }
+
  private:
   rtsdf::GpuScene& scene_for_update() {
     if (!scene_) throw rtsdf::Error("call sync before updating the viewport's scene");
@@ -387,6 +404,9 @@ PYBIND11_MODULE(rtsdf_native, m) {
            "A 4x4 matrix for every instance, in sync's order (only the top-level BVH is rebuilt).")
       .def("set_mesh", &Viewport::set_mesh, py::arg("mesh"), py::arg("positions"),
            "New vertex positions (N, 3) of mesh `mesh`, same vertex count and triangles.")
+      .def("fine_sdf", &Viewport::fine_sdf,
+           "The fine SDF as the last draw left it: {origin, voxel_size, distance (z, y, x) as float32}; None "
+           "before the first fine-SDF update.")
       .def("draw", &Viewport::draw, py::arg("view"), py::arg("settings") = py::dict(),
            "Adds one accumulation frame of the view {camera, lights, ambient, width, height} and returns combined "
            "(H,W,4, rows top to bottom), frames, converged, advanced and ms. Any change of scene, view or settings "

@@ -44,6 +44,40 @@ class NativeModuleInBlender(unittest.TestCase):
         centre = tuple(n // 2 for n in d.shape)
         self.assertAlmostEqual(float(d[centre]) + result["beta"], 1.0, delta=1.0 * vs)
 
+    def test_viewport_fine_sdf_reads_back(self):
+        # A 2-unit cube: the fine SDF just inside its face is negative, just outside it the distance to the face.
+        corners = np.array([[x, y, z] for z in (-1, 1) for y in (-1, 1) for x in (-1, 1)], np.float32)
+        faces = np.array([[0, 2, 1], [1, 2, 3], [4, 5, 6], [5, 7, 6], [0, 1, 4], [1, 5, 4],
+                          [2, 6, 3], [3, 6, 7], [0, 4, 2], [2, 4, 6], [1, 3, 5], [3, 7, 5]], np.uint32)
+        eye = np.eye(4, dtype=np.float32)
+        view_matrix = eye.copy()
+        view_matrix[2, 3] = -6.0  # camera 6 units along +z, looking down -z
+        scene = {"meshes": [{"positions": corners, "indices": faces}], "instances": [{"mesh": 0, "matrix": eye}],
+                 "lights": [], "ambient": (0.5, 0.5, 0.5), "width": 16, "height": 16,
+                 "camera": {"world_to_view": view_matrix,
+                            "projection": np.diag([1.0, 1.0, -1.0, 1.0]).astype(np.float32)}}
+        scene["camera"]["projection"][2, 3] = -0.2
+        scene["camera"]["projection"][3, 2] = -1.0
+        scene["camera"]["projection"][3, 3] = 0.0
+        viewport = rtsdf_native.Session().viewport()
+        viewport.sync(scene)
+        self.assertIsNone(viewport.fine_sdf())
+        view = {key: scene[key] for key in ("camera", "lights", "ambient", "width", "height")}
+        for _ in range(3):
+            viewport.draw(view, {"samples": 3, "coarse_resolution": 32, "fine_resolution": 64})
+        fine = viewport.fine_sdf()
+        distance, origin, voxel = fine["distance"], np.array(fine["origin"]), fine["voxel_size"]
+        self.assertEqual(distance.ndim, 3)
+
+        def at(point):
+            index = np.floor((np.array(point) - origin) / voxel).astype(int)
+            return float(distance[index[2], index[1], index[0]]), origin + (index + 0.5) * voxel
+
+        inside, centre = at((0.0, 0.0, 1.0 - 1.5 * voxel))
+        self.assertLess(inside, 0.0)
+        outside, centre = at((0.0, 0.0, 1.0 + 1.5 * voxel))
+        self.assertAlmostEqual(outside, centre[2] - 1.0, delta=0.5 * voxel)
+
     def test_bad_input_raises(self):
         with self.assertRaises(rtsdf_native.Error):
             rtsdf_native.coarse_sdf(np.zeros((3, 3), np.float32), np.zeros((0, 3), np.uint32), 32, 0.5)

@@ -229,15 +229,48 @@ TEST_F(RendererTest, WorldLightIsOccludedUnderARoof) {
   Renderer renderer(context());
   // No lights: only the world colour (0.5) lights the ground (albedo 0.8).
   RenderOutput out = renderer.render(gpu_scene, camera, {}, glm::vec3(0.5f), size, size, settings);
-  auto ground_at = [&](double x) {  // pixel on the row y = 0 at world x
-    const int i = std::clamp(int((x + 4.0) / 8.0 * size), 0, size - 1);
-    return out.combined[4 * (size_t(size / 2) * size + i)];
+  // Mean of the 5x5 pixels around world (x, 0): each pixel holds only 32 sky
+  // samples (two a frame), and a sample is either blocked or not.
+  auto ground_at = [&](double x) {
+    const int i = std::clamp(int((x + 4.0) / 8.0 * size), 2, size - 3);
+    double sum = 0;
+    for (int dy = -2; dy <= 2; ++dy)
+      for (int dx = -2; dx <= 2; ++dx) sum += out.combined[4 * (size_t(size / 2 + dy) * size + i + dx)];
+    return float(sum / 25.0);
   };
   const float open = 0.8f * 0.5f;
   EXPECT_NEAR(ground_at(3.7), open, 0.03f * open) << "open ground sees the whole sky";
   EXPECT_LT(ground_at(1.7) , open) << "next to the roof, part of the sky is hidden";
   EXPECT_NEAR(out.combined[4 * (size_t(size / 2) * size + size / 2)], 0.8f * 0.5f, 0.01f)
       << "the roof's top (seen from above) sees the whole sky";
+}
+
+// A closed room whose walls are much thinner than the sky's cones are wide:
+// no world light inside. By the clearance inside the walls alone (about
+// -thickness / 2 against cones metres wide) half the sky shone through them.
+TEST_F(RendererTest, NoWorldLightInsideAClosedRoom) {
+  Mesh room = reference::box({-2.1f, -2.1f, -0.1f}, {2.1f, 2.1f, 0.0f});  // floor
+  reference::append(room, reference::box({-2.1f, -2.1f, 2.5f}, {2.1f, 2.1f, 2.6f}));  // ceiling
+  reference::append(room, reference::box({-2.1f, -2.1f, 0.0f}, {-2.0f, 2.1f, 2.5f}));
+  reference::append(room, reference::box({2.0f, -2.1f, 0.0f}, {2.1f, 2.1f, 2.5f}));
+  reference::append(room, reference::box({-2.0f, -2.1f, 0.0f}, {2.0f, -2.0f, 2.5f}));
+  reference::append(room, reference::box({-2.0f, 2.0f, 0.0f}, {2.0f, 2.1f, 2.5f}));
+  GpuScene scene(context(), single_mesh_scene(room));
+  Camera camera;  // inside, looking down at the floor
+  camera.world_to_view = glm::lookAt(glm::vec3(0, 0, 2.0f), glm::vec3(0, 0, 0), glm::vec3(0, 1, 0));
+  camera.projection = glm::perspectiveRH_NO(1.2f, 1.0f, 0.1f, 20.0f);
+  RenderSettings settings;
+  settings.samples = 8;
+  settings.coarse_resolution = 32;
+  settings.fine_resolution = 64;
+  const int size = 32;
+  Renderer renderer(context());
+  RenderOutput out = renderer.render(scene, camera, {}, glm::vec3(0.5f), size, size, settings);
+  double sum = 0;
+  for (int i = 0; i < size * size; ++i) sum += out.combined[4 * size_t(i)];
+  const double mean = sum / (size * size), open = 0.8 * 0.5;
+  std::printf("floor of a closed room: mean %.4f (open sky would give %.2f)\n", mean, open);
+  EXPECT_LT(mean, 0.05 * open);
 }
 
 }  // namespace
