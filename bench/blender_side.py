@@ -1,7 +1,8 @@
 """The part of bench/run that runs inside Blender (with the rtsdf add-on):
 
   prepare: the scene as RTSDF takes it (before and after a move of one
-           object), and the Cycles references (with and without shadows) of both;
+           object), and the Cycles references (with and without shadows) of both,
+           and of the world's light alone before the move;
   eevee:   EEVEE renders (run under Xvfb) over a sweep of its shadow settings.
 
 blender -b SCENE.blend --addons rtsdf --python bench/blender_side.py -- MODE OUT_DIR PERCENT CYCLES_SAMPLES [QUICK]
@@ -41,7 +42,8 @@ def render_pixels():
     return np.ascontiguousarray(pixels[::-1, :, :3]), seconds
 
 
-def cycles(shadows):
+def cycles(shadows, lights=True):
+    """Cycles' direct light; with the lights' shadows or without; lights=False: the world's light alone."""
     scene = bpy.context.scene
     scene.render.engine = "CYCLES"
     scene.cycles.samples = CYCLES_SAMPLES
@@ -49,13 +51,25 @@ def cycles(shadows):
     scene.cycles.max_bounces = 0  # direct light only, as RTSDF computes it
     for light in bpy.data.lights:
         light.cycles.cast_shadow = shadows
-    return render_pixels()
+    hidden = [o for o in scene.objects if o.type == "LIGHT" and not o.hide_render]
+    if not lights:
+        for o in hidden:
+            o.hide_render = True
+    try:
+        return render_pixels()
+    finally:
+        for o in hidden:
+            o.hide_render = False
 
 
 def moving_object():
-    """The object whose move the ghosting test follows: 'Sphere' if there is one, else the largest
-    shadow-casting mesh that is not flat (a ground or a wall)."""
+    """The object whose move the ghosting test follows: the one a sample script marked with the
+    property rtsdf_bench_mover, else 'Sphere' if there is one, else the largest shadow-casting mesh
+    that is not flat (a ground or a wall)."""
     objects = bpy.data.objects
+    marked = [o for o in objects if o.get("rtsdf_bench_mover")]
+    if marked:
+        return marked[0]
     if "Sphere" in objects:
         return objects["Sphere"]
     candidates = [o for o in objects if o.type == "MESH" and o.name != "Ground" and o.visible_shadow
@@ -74,6 +88,7 @@ def prepare():
     references = {"before": {}, "after": {}}
     references["before"]["shadowed"], seconds = cycles(True)
     references["before"]["unshadowed"], _ = cycles(False)
+    references["before"]["world"], _ = cycles(True, lights=False)  # for the leak figure
 
     mover = moving_object()
     after = None

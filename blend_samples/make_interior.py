@@ -44,7 +44,8 @@ def main():
     table = [((1.1, 0.7, 0.04), (0, 0, 0.73))]
     table += [((0.05, 0.05, 0.71), (sx * 0.49, sy * 0.29, 0.355)) for sx in (-1, 1) for sy in (-1, 1)]
     add_boxes(scene, "Table", table, (0.45, 0.3, 0.18), (0.4, 1.6, 0))
-    add_chair(scene, "Chair1", (-1.3, 0.2, 0), 130, (0.7, 0.25, 0.2))
+    chair = add_chair(scene, "Chair1", (-1.3, 0.2, 0), 130, (0.7, 0.25, 0.2))
+    chair["rtsdf_bench_mover"] = True  # bench/run moves it to measure ghosting
     add_chair(scene, "Chair2", (-0.4, 0.85, 0), 166, (0.25, 0.45, 0.65))
 
     # A sofa by the back wall.

@@ -10,13 +10,17 @@ from mathutils import Euler, Matrix, Vector
 
 
 def material(name, color):
-    """A rough, non-specular Principled material (and the same viewport colour)."""
+    """A Lambertian material (Diffuse BSDF, roughness 0), as RTSDF shades, and
+    the same viewport colour. (Principled's diffuse at roughness 1 reflects
+    back towards grazing views: a far ground came out brighter in Cycles.)"""
     mat = bpy.data.materials.new(name)
     mat.use_nodes = True
-    bsdf = mat.node_tree.nodes["Principled BSDF"]
-    bsdf.inputs["Base Color"].default_value = (*color, 1.0)
-    bsdf.inputs["Specular"].default_value = 0.0
-    bsdf.inputs["Roughness"].default_value = 1.0
+    nodes = mat.node_tree.nodes
+    nodes.remove(nodes["Principled BSDF"])
+    bsdf = nodes.new("ShaderNodeBsdfDiffuse")
+    bsdf.inputs["Color"].default_value = (*color, 1.0)
+    bsdf.inputs["Roughness"].default_value = 0.0
+    mat.node_tree.links.new(bsdf.outputs["BSDF"], nodes["Material Output"].inputs["Surface"])
     mat.diffuse_color = (*color, 1.0)
     return mat
 

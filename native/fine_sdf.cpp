@@ -47,7 +47,7 @@ void FineSdf::allocate(const GridSpec& grid) {
 }
 
 void FineSdf::update(GpuScene& scene, const CoarseSdf& coarse, const GridSpec& fine_grid,
-                     const FineTraceSettings& settings) {
+                     const FineTraceSettings& settings, const Bounds* changed) {
   if (settings.rays_per_texel < 1 || settings.rays_per_texel > 1024) throw Error("rays per texel must be 1 to 1024");
   if (!(settings.decay >= 0.0f && settings.decay < 1.0f)) throw Error("decay (alpha) must be in [0, 1)");
   if (settings.interleave < 1 || settings.interleave > 64) throw Error("interleave must be 1 to 64");
@@ -57,7 +57,7 @@ void FineSdf::update(GpuScene& scene, const CoarseSdf& coarse, const GridSpec& f
   context_.submit_and_wait([&](VkCommandBuffer cmd) {
     timer_.begin(cmd);
     pass_.record(cmd, rays, coarse.grid(), coarse.distance(), grid_, distance_, hit_counts_, trace_list_, dispatch_,
-                 settings, coarse.beta_world(), frame_, frame_ == 0, &timer_);
+                 settings, coarse.beta_world(), frame_, frame_ == 0, changed, &timer_);
   });
   stats_ = {};
   for (const vk::GpuTimer::Span& span : timer_.read()) {

@@ -21,10 +21,11 @@ class FineSdf {
   // The fine grid: `fine_resolution` voxels on the longest axis over the coarse grid's bounds.
   static GridSpec fit(const GridSpec& coarse, int fine_resolution);
 
-  // One frame: classify against `coarse` (built this frame) and trace the band.
-  // A new grid or reset() starts accumulation afresh.
+  // One frame: classify against `coarse` (built this frame) and trace the band
+  // (with `changed`: only the band near that world region; the rest keeps
+  // its values). A new grid or reset() starts accumulation afresh.
   void update(GpuScene& scene, const CoarseSdf& coarse, const GridSpec& fine_grid,
-              const FineTraceSettings& settings);
+              const FineTraceSettings& settings, const Bounds* changed = nullptr);
   void reset() { frame_ = 0; }
 
   const GridSpec& grid() const { return grid_; }

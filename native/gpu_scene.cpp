@@ -1,5 +1,6 @@
 #include "gpu_scene.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstring>
@@ -45,6 +46,20 @@ void GpuScene::update_bounds() {
   bounds_ = casters_.empty() ? Bounds{} : scene_.world_bounds(casters_);
 }
 
+void GpuScene::mark_changed(uint32_t instance) {
+  if (!std::binary_search(casters_.begin(), casters_.end(), instance)) return;
+  const Bounds b = scene_.world_bounds({instance});
+  if (b.lo.x > b.hi.x) return;  // an empty mesh
+  changes_.region = changes_.any ? Bounds{glm::min(changes_.region.lo, b.lo), glm::max(changes_.region.hi, b.hi)} : b;
+  changes_.any = true;
+}
+
+GpuScene::Changes GpuScene::take_changes() {
+  Changes taken = changes_;
+  changes_ = Changes{false, false, Bounds{}};
+  return taken;
+}
+
 void GpuScene::set_shadow_casters(const std::vector<uint8_t>& casters) {
   if (casters.size() != scene_.instances.size())
     throw Error("set_shadow_casters: expected " + std::to_string(scene_.instances.size()) + " flags");
@@ -53,6 +68,7 @@ void GpuScene::set_shadow_casters(const std::vector<uint8_t>& casters) {
     if (casters[i]) indices.push_back(i);
   if (indices == casters_) return;
   casters_ = std::move(indices);
+  changes_.everything = true;
   update_bounds();
   if (has_ray_structures_) build_top_level();
 }
@@ -154,7 +170,12 @@ void GpuScene::set_transforms(const std::vector<glm::mat4>& object_to_world) {
     for (int c = 0; c < 4; ++c)
       for (int r = 0; r < 4; ++r)
         if (!std::isfinite(m[c][r])) throw Error("set_transforms: a transform has NaN or infinite entries");
-  for (size_t i = 0; i < object_to_world.size(); ++i) scene_.instances[i].object_to_world = object_to_world[i];
+  for (uint32_t i = 0; i < object_to_world.size(); ++i) {
+    if (scene_.instances[i].object_to_world == object_to_world[i]) continue;
+    mark_changed(i);  // where it was
+    scene_.instances[i].object_to_world = object_to_world[i];
+    mark_changed(i);  // and where it is now
+  }
   update_bounds();
   if (!has_ray_structures_) return;
   Clock::time_point start = Clock::now();
@@ -168,7 +189,11 @@ void GpuScene::set_mesh_positions(uint32_t mesh, const std::vector<glm::vec3>& p
   Scene deformed = scene_;
   deformed.meshes[mesh].positions = positions;
   deformed.validate();
+  for (uint32_t i = 0; i < scene_.instances.size(); ++i)
+    if (scene_.instances[i].mesh == mesh) mark_changed(i);  // the old shape
   scene_ = std::move(deformed);
+  for (uint32_t i = 0; i < scene_.instances.size(); ++i)
+    if (scene_.instances[i].mesh == mesh) mark_changed(i);  // the new one
   update_bounds();
   upload_raster();
   if (!has_ray_structures_) return;

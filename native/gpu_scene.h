@@ -53,6 +53,17 @@ class GpuScene {
   const Bounds& bounds() const { return bounds_; }
   size_t triangle_count() const { return scene_.triangle_count(); }
 
+  // What changed in the shadow casters since the last take_changes(): the
+  // union of the old and new world bounds of the casters that moved or
+  // deformed (`any`), or `everything` after the upload or a change of which
+  // instances cast shadows. The fine SDF retraces only near such changes.
+  struct Changes {
+    bool everything = true;
+    bool any = false;
+    Bounds region;
+  };
+  Changes take_changes();
+
   // The BVHs over the shadow casters, built (or brought up to date) on first
   // use. Throws rtsdf::Error when there is no shadow caster.
   const RayStructures& ray_structures();
@@ -65,11 +76,13 @@ class GpuScene {
   void upload_bottom_levels();
   void build_top_level();
   void update_bounds();
+  void mark_changed(uint32_t instance);  // adds the instance's current world bounds, if it casts shadows
 
   const vk::Context& context_;
   Scene scene_;
   std::vector<uint32_t> casters_;  // instance indices
   Bounds bounds_;
+  Changes changes_;
   vk::Buffer positions_;
   vk::Buffer indices_;
   vk::Buffer normals_;

@@ -99,6 +99,8 @@ void Renderer::rebuild_sdfs(GpuScene& scene, const RenderSettings& settings) {
   const bool had_casters = has_casters_;
   has_casters_ = !scene.shadow_casters().empty();
   fine_updates_ = 0;
+  const GpuScene::Changes changes = scene.take_changes();
+  changed_region_.reset();
   // csm_evsm needs no SDF; jfa_only only the coarse one.
   if (has_casters_ && settings.shadow_method != ShadowMethod::CsmEvsm) {
     const Bounds bounds = scene.bounds();
@@ -115,6 +117,9 @@ void Renderer::rebuild_sdfs(GpuScene& scene, const RenderSettings& settings) {
       fine_grid_ = FineSdf::fit(coarse_grid_, settings.fine_resolution);
       // (a new grid resets it anyway; another method's field is not history)
       if (!settings.keep_history || settings.shadow_method != settings_.shadow_method) fine_.reset();
+      // Kept history: the next update retraces only near what moved or
+      // deformed (nothing, if no caster did), the rest is still converged.
+      else if (!changes.everything) changed_region_ = changes.any ? changes.region : Bounds::empty();
     }
   }
   if (!no_casters_field_) {
@@ -214,7 +219,8 @@ void Renderer::add_frame() {
   // The visibility's per-frame work, in the first sdf_updates frames (0: every frame).
   auto due = [&](int done) { return has_casters_ && (settings_.sdf_updates == 0 || done < settings_.sdf_updates); };
   if (uses_fine_sdf(settings_.shadow_method) && due(fine_updates_)) {
-    fine_.update(*scene_, coarse_, fine_grid_, fine_settings());
+    fine_.update(*scene_, coarse_, fine_grid_, fine_settings(), changed_region_ ? &*changed_region_ : nullptr);
+    changed_region_.reset();  // later updates go on converging everywhere
     fine_updates_++;
   }
   timings_.fine_ms += ms_since(start);

@@ -4,6 +4,7 @@
 // G-buffer and the shading and differ only in visibility (ShadowMethod).
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -139,6 +140,7 @@ class Renderer {
   int width_ = 0, height_ = 0;
   int frame_ = 0;
   int fine_updates_ = 0;        // since the SDFs were rebuilt
+  std::optional<Bounds> changed_region_;  // for the first fine update after a local change
   int shadow_map_renders_ = 0;  // since begin() (the maps follow the camera)
   RenderTimings timings_;
   gpu::FrameData frame_data_{};

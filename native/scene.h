@@ -28,6 +28,9 @@ struct Bounds {
   glm::vec3 lo{0.0f};
   glm::vec3 hi{0.0f};
   glm::vec3 extent() const { return hi - lo; }
+  // Holds no point (lo above hi).
+  static Bounds empty() { return {glm::vec3(1.0f), glm::vec3(-1.0f)}; }
+  bool is_empty() const { return glm::any(glm::greaterThan(lo, hi)); }
 };
 
 struct Scene {

@@ -2,7 +2,8 @@
 #extension GL_GOOGLE_include_directive : require
 // Fine SDF, step 1: every fine texel reads the coarse SDF at its centre.
 // Texels within the band (c <= d) whose turn it is (one in K per frame, all
-// on the first frame) are appended to the trace list. Texels outside take the coarse distance, as the
+// on the first frame; after a local change only those in the focus box) are
+// appended to the trace list. Texels outside take the coarse distance, as the
 // paper does, but without the bias beta: c + beta, the distance between voxel
 // and seed centres, is off by at most half a voxel diagonal either way, where
 // c is always low. Soft shadows read this far field: penumbrae wider than the
@@ -29,7 +30,12 @@ void main() {
     uint turn = (uint(p.x) * 73856093u) ^ (uint(p.y) * 19349663u) ^ (uint(p.z) * 83492791u);
     // The first frame traces every band texel: a field in which most texels
     // were never traced has no signs, and shadows through solids come out half lit.
-    if (pc.coarse_dims.w != 0 || (turn + pc.schedule.y) % pc.schedule.x == 0u) {
+    // After a change in part of the scene only texels near it are traced (on
+    // their turn); the rest keep their converged values.
+    bool focused = pc.coarse_beta.y != 0.0;
+    bool in_focus = all(greaterThanEqual(p, unpack_seed(pc.schedule.z))) && all(lessThanEqual(p, unpack_seed(pc.schedule.w)));
+    bool my_turn = (turn + pc.schedule.y) % pc.schedule.x == 0u && (!focused || in_focus);
+    if (pc.coarse_dims.w != 0 || my_turn) {
       uint slot = atomicAdd(trace_count, 1u);
       trace_texels[slot] = pack_seed(p);
     } else if (pc.coarse_dims.w != 0) {

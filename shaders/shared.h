@@ -75,8 +75,10 @@ struct FinePush {
   ivec4 coarse_dims;  // w = 1 on the first frame (no history)
   vec4 coarse_grid;   // xyz = origin, w = voxel size (world)
   vec4 params;        // x = alpha, y = trace band d (world), z = decay target bias (world), w = ray length (world)
-  uvec4 schedule;     // x = interleave K (each band texel is traced every K-th frame), y = frame
-  vec4 coarse_beta;   // x = beta (world): coarse value + beta = the distance between voxel and seed centres
+  uvec4 schedule;     // x = interleave K (each band texel is traced every K-th frame), y = frame,
+                      // z, w = first and last texel (packed like seeds) of the focus box, see coarse_beta.y
+  vec4 coarse_beta;   // x = beta (world): coarse value + beta = the distance between voxel and seed centres,
+                      // y = 1: trace every band texel in the focus box and none elsewhere (after a local change)
 };
 
 #define RTSDF_TRACE_GROUP 64

@@ -36,10 +36,19 @@ def ssim(a, b):
     return float(structural_similarity(to_display(a).mean(axis=-1), to_display(b).mean(axis=-1), data_range=1.0))
 
 
-def leak(method_visibility, reference_visibility):
-    """Share of the reference's umbra pixels that come out lit (visibility above one half)."""
-    umbra = reference_visibility < UMBRA_BELOW
-    return float(np.mean(method_visibility[umbra] > 0.5)) if umbra.any() else 0.0
+def leak(image, reference, unshadowed, world, least_pixels=20):
+    """Share of the reference's umbra pixels in which `image` gets more than half of the lights'
+    direct light. The lights' light is the unshadowed render less the world's light alone; the
+    umbra is where it counts (a quarter or more of the unshadowed light) and under UMBRA_BELOW of
+    it reaches the reference. None when fewer than `least_pixels` pixels are in the umbra."""
+    sky = world.mean(axis=-1)
+    lights = unshadowed.mean(axis=-1) - sky
+    counts = lights > 0.25 * np.maximum(unshadowed.mean(axis=-1), 1e-6)
+    safe = np.maximum(lights, 1e-6)
+    umbra = counts & ((reference.mean(axis=-1) - sky) / safe < UMBRA_BELOW)
+    if umbra.sum() < least_pixels:
+        return None
+    return float(np.mean((image.mean(axis=-1)[umbra] - sky[umbra]) / safe[umbra] > 0.5))
 
 
 def flicker(frames):

@@ -47,7 +47,7 @@ void FineTracePass::record(VkCommandBuffer cmd, const GpuScene::RayStructures& s
                            const vk::Image& coarse, const GridSpec& fine_grid, const vk::Image& fine,
                            const vk::Image& hit_counts, const vk::Buffer& trace_list, const vk::Buffer& dispatch,
                            const FineTraceSettings& settings, float beta_world, uint32_t frame, bool first_frame,
-                           vk::GpuTimer* timer) const {
+                           const Bounds* changed, vk::GpuTimer* timer) const {
   const float coarse_voxel = coarse_grid.voxel_size;
   const float bias = settings.decay_target_bias >= 0.0f ? settings.decay_target_bias * coarse_voxel
                                                         : beta_world + 0.5f * std::sqrt(3.0f) * coarse_voxel;
@@ -67,6 +67,20 @@ void FineTracePass::record(VkCommandBuffer cmd, const GpuScene::RayStructures& s
   push.params = glm::vec4(settings.decay, band, bias, ray_length);
   push.schedule = glm::uvec4(uint32_t(settings.trace_everywhere ? 1 : settings.interleave), frame, 0u, 0u);
   push.coarse_beta = glm::vec4(beta_world, 0.0f, 0.0f, 0.0f);
+  if (changed && !first_frame && !settings.trace_everywhere) {
+    // The texels whose centres lie within a ray's reach (and a voxel) of the change.
+    const glm::vec3 reach(ray_length + fine_grid.voxel_size);
+    const glm::vec3 lo = glm::ceil((changed->lo - reach - fine_grid.origin) / fine_grid.voxel_size - 0.5f);
+    const glm::vec3 hi = glm::floor((changed->hi + reach - fine_grid.origin) / fine_grid.voxel_size - 0.5f);
+    const glm::vec3 top(fine_grid.dims - 1);
+    glm::ivec3 first(1), last(0);  // none
+    if (!changed->is_empty() && !glm::any(glm::greaterThan(lo, top)) && !glm::any(glm::lessThan(hi, glm::vec3(0.0f))))
+      first = glm::ivec3(glm::max(lo, glm::vec3(0.0f))), last = glm::ivec3(glm::min(hi, top));
+    auto pack = [](glm::ivec3 v) { return uint32_t(v.x) | uint32_t(v.y) << gpu::kSeedBits | uint32_t(v.z) << (2 * gpu::kSeedBits); };
+    push.schedule.z = pack(first);
+    push.schedule.w = pack(last);
+    push.coarse_beta.y = 1.0f;
+  }
 
   vkCmdFillBuffer(cmd, trace_list.handle(), 0, sizeof(uint32_t), 0u);
   compute_barrier(cmd);

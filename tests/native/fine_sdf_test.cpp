@@ -208,6 +208,57 @@ TEST_F(FineSdfTest, MovedSphereLeavesNoInsideBehind) {
   EXPECT_EQ(still_inside, 0u);
 }
 
+// After one of two far-apart spheres moves, the next update traces only the
+// band near the moved one's old and new places: the other's texels keep their
+// values exactly, and the moved one's field is as good as a full update's.
+TEST_F(FineSdfTest, LocalChangeRetracesOnlyNearIt) {
+  const float radius = 0.3f;
+  Scene scene;
+  scene.meshes = {reference::uv_sphere({0, 0, 0}, radius, 32)};
+  const glm::vec3 still(1.2f, 0, 0), before(-1.2f, 0, 0), after(-1.0f, 0, 0);
+  scene.instances = {{0, glm::translate(glm::mat4(1.0f), still)}, {0, glm::translate(glm::mat4(1.0f), before)}};
+  GpuScene gpu_scene(context(), scene);
+  CoarseSdf coarse(context());
+  FineSdf local(context()), full(context());
+  const GridSpec coarse_grid = fit_grid(Bounds{glm::vec3(-1.6f), glm::vec3(1.6f)}, 32);
+  const GridSpec grid = FineSdf::fit(coarse_grid, 64);
+  coarse.build(gpu_scene, coarse_grid, 0.5f);
+  for (int f = 0; f < 8; ++f) local.update(gpu_scene, coarse, grid, FineTraceSettings{}), full.update(gpu_scene, coarse, grid, FineTraceSettings{});
+  const uint32_t band = full.read_traced_texels();
+  const std::vector<float> converged = local.read_distance();
+  gpu_scene.take_changes();
+
+  gpu_scene.set_transforms({glm::translate(glm::mat4(1.0f), still), glm::translate(glm::mat4(1.0f), after)});
+  const GpuScene::Changes changes = gpu_scene.take_changes();
+  ASSERT_TRUE(changes.any && !changes.everything);
+  EXPECT_LT(changes.region.hi.x, 0.0f) << "the region holds only the moved sphere";
+  coarse.build(gpu_scene, coarse_grid, 0.5f);
+  local.update(gpu_scene, coarse, grid, FineTraceSettings{}, &changes.region);
+  full.update(gpu_scene, coarse, grid, FineTraceSettings{});
+  const uint32_t traced = local.read_traced_texels();
+  std::printf("local change: %u texels traced of a band of %u\n", traced, band);
+  EXPECT_LT(traced, band * 3 / 4);
+  EXPECT_GT(traced, band / 4);
+
+  const std::vector<float> local_values = local.read_distance(), full_values = full.read_distance();
+  size_t kept = 0, near_still = 0, wrong_sign = 0, near_moved = 0;
+  for (int z = 0; z < grid.dims.z; ++z)
+    for (int y = 0; y < grid.dims.y; ++y)
+      for (int x = 0; x < grid.dims.x; ++x) {
+        const size_t i = size_t(x) + size_t(grid.dims.x) * (y + size_t(grid.dims.y) * z);
+        const glm::vec3 p = grid.voxel_center({x, y, z});
+        if (glm::length(p - still) < radius + 2.0f * grid.voxel_size && p.x > 0.6f)
+          near_still++, kept += local_values[i] == converged[i];
+        const float now = glm::length(p - after) - radius;
+        if (std::abs(now) > 1.5f * grid.voxel_size && std::abs(now) < 3.0f * grid.voxel_size)
+          near_moved++, wrong_sign += (local_values[i] < 0.0f) != (now < 0.0f);
+      }
+  ASSERT_GT(near_still, 100u);
+  EXPECT_EQ(kept, near_still) << "texels far from the change must keep their values";
+  ASSERT_GT(near_moved, 100u);
+  EXPECT_EQ(wrong_sign, 0u);
+}
+
 }  // namespace
 }  // namespace rtsdf
 
