@@ -309,6 +309,8 @@ class Session {
 
   std::unique_ptr<Viewport> viewport() const { return std::make_unique<Viewport>(context_); }
 
+  int validation_messages() const { return context_->validation_message_count(); }
+
   std::string device() const { return context_->info().name; }
 
   // persistent: keep the device scene (uploads, BVHs) when only transforms
@@ -414,6 +416,8 @@ PYBIND11_MODULE(rtsdf_native, m) {
   py::class_<Session>(m, "Session", "A Vulkan device and renderer kept between renders.")
       .def(py::init<>())
       .def_property_readonly("device", &Session::device)
+      .def_property_readonly("validation_messages", &Session::validation_messages,
+                             "Vulkan validation messages so far on this session's device (RTSDF_VALIDATION=1).")
       .def("viewport", &Session::viewport, "A new viewport (its own scene and accumulation) on this device.")
       .def("render", &Session::render, py::arg("scene"), py::arg("settings") = py::dict(),
            py::arg("progress") = py::none(), py::arg("persistent") = false,

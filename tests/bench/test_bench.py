@@ -1,0 +1,80 @@
+"""bench/run's contract and figures: the leak and Pareto rules on made-up data, and a
+quick run on one sample scene that must write results.csv (exactly the contract's
+columns, a row per method), speed_accuracy.png and summary.md.
+
+RTSDF_BUILD_DIR=build python3 -m unittest -v tests/bench/test_bench.py
+"""
+import csv
+import importlib.machinery
+import importlib.util
+import os
+import subprocess
+import sys
+import tempfile
+import unittest
+
+import numpy as np
+
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+BENCH = os.path.join(ROOT, "bench", "run")
+
+
+def load_bench():
+    loader = importlib.machinery.SourceFileLoader("rtsdf_bench", BENCH)
+    spec = importlib.util.spec_from_loader("rtsdf_bench", loader)
+    module = importlib.util.module_from_spec(spec)
+    loader.exec_module(module)
+    return module
+
+
+bench = load_bench()
+
+
+class Figures(unittest.TestCase):
+    def test_leak_counts_umbra_pixels_that_get_the_lights_light(self):
+        world = np.full((10, 10, 3), 0.05, np.float32)
+        unshadowed = world + 0.5  # the lights add 0.5 everywhere
+        reference = unshadowed.copy()
+        reference[:5] = world[:5]  # the top half is in Cycles' umbra
+        image = reference.copy()
+        self.assertEqual(bench.metrics.leak(image, reference, unshadowed, world), 0.0)
+        image[:2] = unshadowed[:2]  # 20 of the 50 umbra pixels lit
+        self.assertAlmostEqual(bench.metrics.leak(image, reference, unshadowed, world), 0.4)
+        # Where the world's light dominates, there is no umbra to judge.
+        self.assertIsNone(bench.metrics.leak(image, reference, world * 10 + 0.001, world * 10))
+
+    def test_pareto_front(self):
+        points = [(10.0, 0.5), (20.0, 0.2), (15.0, 0.6), (30.0, 0.1), (30.0, 0.3)]
+        self.assertEqual(bench.pareto(points), [0, 1, 3])
+
+
+class QuickRun(unittest.TestCase):
+    def test_quick_run_on_one_scene_writes_the_contract(self):
+        build = os.environ.get("RTSDF_BUILD_DIR", os.path.join(ROOT, "build"))
+        if not os.path.exists(os.path.join(build, "samples", "sphere_plane.blend")):
+            self.skipTest("no sample scenes built")
+        with tempfile.TemporaryDirectory() as out:
+            result = subprocess.run([sys.executable, BENCH, "--quick", "--out", out, "--scenes", "sphere_plane"],
+                                    capture_output=True, text=True, timeout=600)
+            self.assertEqual(result.returncode, 0, result.stdout[-3000:] + result.stderr[-3000:])
+            with open(os.path.join(out, "results.csv"), newline="") as f:
+                reader = csv.DictReader(f)
+                self.assertEqual(reader.fieldnames, ["scene", "method", "setting", "ms_per_frame", "shadow_rmse",
+                                                     "ssim", "flicker", "ghost_frames", "leak"])
+                rows = list(reader)
+            methods = {row["method"] for row in rows}
+            self.assertEqual(methods, {"cycles", "rtsdf", "rt_only", "jfa_only", "csm_evsm", "eevee"})
+            for row in rows:
+                self.assertGreater(float(row["ms_per_frame"]), 0.0)
+                if row["method"] != "cycles":
+                    self.assertTrue(0.0 <= float(row["shadow_rmse"]) < 1.0, row)
+            # The still scene's default rtsdf setting: no ghost left after the move.
+            first = next(row for row in rows if row["method"] == "rtsdf")
+            self.assertEqual(first["ghost_frames"], "1", first)
+            self.assertGreater(os.path.getsize(os.path.join(out, "speed_accuracy.png")), 10000)
+            with open(os.path.join(out, "summary.md")) as f:
+                self.assertIn("| sphere_plane |", f.read())
+
+
+if __name__ == "__main__":
+    unittest.main()
