@@ -105,7 +105,9 @@ void Renderer::rebuild_sdfs(GpuScene& scene, const RenderSettings& settings) {
   if (has_casters_ && settings.shadow_method != ShadowMethod::CsmEvsm) {
     const Bounds bounds = scene.bounds();
     const GridSpec tight = fit_grid(bounds, settings.coarse_resolution);
-    if (!(had_casters && settings.coarse_resolution == settings_.coarse_resolution &&
+    // A grid is kept only for history (viewport, persistent data): a final
+    // render's grid must not depend on what was rendered before.
+    if (!(had_casters && settings.keep_history && settings.coarse_resolution == settings_.coarse_resolution &&
           grid_still_fits(coarse_grid_, bounds, tight, settings.grid_slack))) {
       const glm::vec3 slack = 0.5f * settings.grid_slack * bounds.extent();
       coarse_grid_ = settings.grid_slack > 0.0f ? fit_grid(Bounds{bounds.lo - slack, bounds.hi + slack},

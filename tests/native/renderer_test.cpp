@@ -128,6 +128,31 @@ TEST_F(RendererTest, ProgressIsReportedAndCanStopTheRender) {
   EXPECT_NEAR(out.combined[4 * (8 * 16 + 8)], 0.8f * 0.5f, 1e-3f);
 }
 
+// A final render's grid is fitted to its own scene, whatever was rendered
+// before with room around the casters (only the viewport and persistent
+// data keep a grid, for its history).
+TEST_F(RendererTest, FinalRenderDoesNotInheritAnEarlierGrid) {
+  Scene large = single_mesh_scene(reference::box({-2, -2, 0}, {2, 2, 1}));
+  Scene small = single_mesh_scene(reference::box({-1.8f, -1.8f, 0}, {1.8f, 1.8f, 1}));  // fits the first grid
+  GpuScene large_scene(context(), large), small_scene(context(), small);
+  Camera camera;
+  camera.world_to_view = glm::lookAt(glm::vec3(3, 3, 3), glm::vec3(0), glm::vec3(0, 0, 1));
+  camera.projection = glm::perspectiveRH_NO(0.8f, 1.0f, 0.1f, 20.0f);
+  RenderSettings settings;
+  settings.samples = 2;
+  settings.grid_slack = 0.5f;
+  settings.coarse_resolution = 32;
+  settings.fine_resolution = 64;
+  Light sun;
+  sun.direction = glm::normalize(glm::vec3(-1, -0.5f, -2));
+  sun.sun_angle = 0.1f;
+  Renderer used(context()), fresh(context());
+  used.render(large_scene, camera, {sun}, glm::vec3(0.2f), 24, 24, settings);
+  RenderOutput after = used.render(small_scene, camera, {sun}, glm::vec3(0.2f), 24, 24, settings);
+  RenderOutput alone = fresh.render(small_scene, camera, {sun}, glm::vec3(0.2f), 24, 24, settings);
+  EXPECT_EQ(after.combined, alone.combined);
+}
+
 }  // namespace
 }  // namespace rtsdf
 
