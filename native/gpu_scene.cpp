@@ -49,7 +49,7 @@ void GpuScene::update_bounds() {
 void GpuScene::mark_changed(uint32_t instance) {
   if (!std::binary_search(casters_.begin(), casters_.end(), instance)) return;
   const Bounds b = scene_.world_bounds({instance});
-  if (b.lo.x > b.hi.x) return;  // an empty mesh
+  if (b.is_empty()) return;  // an empty mesh
   changes_.region = changes_.any ? Bounds{glm::min(changes_.region.lo, b.lo), glm::max(changes_.region.hi, b.hi)} : b;
   changes_.any = true;
 }
