@@ -15,7 +15,7 @@ import bpy
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from sample_scene import (add_boxes, add_camera, add_ground, add_sun, finish,  # noqa: E402
-                          material, sun_rotation)
+                          material, new_scene, sun_rotation)
 
 FIRST, LAST = 1, 48
 
@@ -44,9 +44,7 @@ def column(scene, name, radius, height, sides, levels, color, location):
 
 
 def main():
-    out = sys.argv[sys.argv.index("--") + 1] if "--" in sys.argv else "animated.blend"
-    bpy.ops.wm.read_factory_settings(use_empty=True)
-    scene = bpy.context.scene
+    out, scene = new_scene("animated.blend")
     scene.frame_start, scene.frame_end = FIRST, LAST
 
     add_ground(scene, 24.0)

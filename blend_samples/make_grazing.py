@@ -11,13 +11,11 @@ import sys
 import bpy
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from sample_scene import add_boxes, add_camera, add_ground, add_sun, finish, material, sun_rotation  # noqa: E402
+from sample_scene import add_boxes, add_camera, add_ground, add_sun, finish, material, new_scene, sun_rotation  # noqa: E402
 
 
 def main():
-    out = sys.argv[sys.argv.index("--") + 1] if "--" in sys.argv else "grazing.blend"
-    bpy.ops.wm.read_factory_settings(use_empty=True)
-    scene = bpy.context.scene
+    out, scene = new_scene("grazing.blend")
 
     add_ground(scene, 60.0)
     add_boxes(scene, "Box", [((0.6, 0.6, 0.6), (0, 0, 0.3), 25)], (0.2, 0.4, 0.8), (-1.6, 4.0, 0))

@@ -10,10 +10,8 @@ blender -b --factory-startup --python blend_samples/make_interior.py -- OUT.blen
 import os
 import sys
 
-import bpy
-
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from sample_scene import add_boxes, add_camera, add_chair, add_ground, add_sun, finish, sun_rotation  # noqa: E402
+from sample_scene import add_boxes, add_camera, add_chair, add_ground, add_sun, finish, new_scene, sun_rotation  # noqa: E402
 
 # The room's inside: x in [-3, 3], y in [-2.5, 2.5], z in [0, 2.7]; walls 0.15 thick.
 X, Y, H, T = 3.0, 2.5, 2.7, 0.15
@@ -22,9 +20,7 @@ WY, W0, W1 = 1.1, 0.7, 2.2
 
 
 def main():
-    out = sys.argv[sys.argv.index("--") + 1] if "--" in sys.argv else "interior.blend"
-    bpy.ops.wm.read_factory_settings(use_empty=True)
-    scene = bpy.context.scene
+    out, scene = new_scene("interior.blend")
 
     add_ground(scene, (2 * X, 2 * Y), (0.75, 0.62, 0.45))
     walls = [

@@ -14,13 +14,11 @@ import sys
 import bpy
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from sample_scene import add_boxes, add_camera, add_ground, add_sun, finish, material, sun_rotation  # noqa: E402
+from sample_scene import add_boxes, add_camera, add_ground, add_sun, finish, material, new_scene, sun_rotation  # noqa: E402
 
 
 def main():
-    out = sys.argv[sys.argv.index("--") + 1] if "--" in sys.argv else "large_small.blend"
-    bpy.ops.wm.read_factory_settings(use_empty=True)
-    scene = bpy.context.scene
+    out, scene = new_scene("large_small.blend")
 
     add_ground(scene, 200.0)
     # In view, along the camera's line of sight.

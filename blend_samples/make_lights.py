@@ -11,7 +11,7 @@ import bpy
 from mathutils import Vector
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from sample_scene import finish, material  # noqa: E402
+from sample_scene import finish, material, new_scene  # noqa: E402
 
 
 def add_light(scene, kind, location, target, **settings):
@@ -25,9 +25,7 @@ def add_light(scene, kind, location, target, **settings):
 
 
 def main():
-    out = sys.argv[sys.argv.index("--") + 1] if "--" in sys.argv else "lights.blend"
-    bpy.ops.wm.read_factory_settings(use_empty=True)
-    scene = bpy.context.scene
+    out, scene = new_scene("lights.blend")
     bpy.ops.mesh.primitive_plane_add(size=8.0)
     bpy.context.object.data.materials.append(material("Ground", (0.8, 0.8, 0.8)))
     for i, (x, y) in enumerate(((-1.6, 0.4), (0.0, -0.4), (1.6, 0.4))):

@@ -11,13 +11,11 @@ import sys
 import bpy
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from sample_scene import add_sun, finish, material  # noqa: E402
+from sample_scene import add_sun, finish, material, new_scene  # noqa: E402
 
 
 def main():
-    out = sys.argv[sys.argv.index("--") + 1] if "--" in sys.argv else "sphere_plane.blend"
-    bpy.ops.wm.read_factory_settings(use_empty=True)
-    scene = bpy.context.scene
+    out, scene = new_scene("sphere_plane.blend")
 
     bpy.ops.mesh.primitive_plane_add(size=8.0, location=(0, 0, 0))
     bpy.context.object.name = "Ground"

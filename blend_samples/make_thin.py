@@ -15,13 +15,11 @@ import bpy
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from sample_scene import (add_boxes, add_camera, add_chair, add_ground, add_sun, finish,  # noqa: E402
-                          material, sun_rotation)
+                          material, new_scene, sun_rotation)
 
 
 def main():
-    out = sys.argv[sys.argv.index("--") + 1] if "--" in sys.argv else "thin.blend"
-    bpy.ops.wm.read_factory_settings(use_empty=True)
-    scene = bpy.context.scene
+    out, scene = new_scene("thin.blend")
 
     add_ground(scene, 20.0)
 

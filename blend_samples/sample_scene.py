@@ -3,10 +3,19 @@ dim world, and the render settings the comparisons use (640x360, Standard
 view transform, Cycles with direct light only and no denoiser, as RTSDF
 shades). Imported by the make_*.py scripts, which Blender runs."""
 import math
+import sys
 
 import bmesh
 import bpy
 from mathutils import Euler, Matrix, Vector
+
+
+def new_scene(default_out):
+    """The output path (the argument after '--' on Blender's command line, else
+    `default_out`) and a new, empty scene to build."""
+    out = sys.argv[sys.argv.index("--") + 1] if "--" in sys.argv else default_out
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    return out, bpy.context.scene
 
 
 def material(name, color):
