@@ -14,8 +14,8 @@ import sys
 import bpy
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from sample_scene import (add_boxes, add_camera, add_ground, add_sun, finish,  # noqa: E402
-                          material, new_scene, sun_rotation)
+from sample_scene import (add_boxes, add_camera, add_ground, add_primitive, add_sun,  # noqa: E402
+                          finish, material, new_scene, sun_rotation)
 
 FIRST, LAST = 1, 48
 
@@ -50,11 +50,8 @@ def main():
     add_ground(scene, 24.0)
 
     # The sphere slides from left to right across the front.
-    bpy.ops.mesh.primitive_uv_sphere_add(radius=0.45, location=(-2.0, -0.9, 0.45), segments=32, ring_count=16)
-    sphere = bpy.context.object
-    sphere.name = "Sphere"
-    bpy.ops.object.shade_smooth()
-    sphere.data.materials.append(material("Sphere", (0.8, 0.3, 0.2)))
+    sphere = add_primitive("uv_sphere", "Sphere", (0.8, 0.3, 0.2),
+                           smooth=True, radius=0.45, location=(-2.0, -0.9, 0.45), segments=32, ring_count=16)
     sphere.keyframe_insert("location", frame=FIRST)
     sphere.location.x = 2.6
     sphere.keyframe_insert("location", frame=LAST)

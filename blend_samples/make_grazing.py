@@ -8,10 +8,9 @@ blender -b --factory-startup --python blend_samples/make_grazing.py -- OUT.blend
 import os
 import sys
 
-import bpy
-
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from sample_scene import add_boxes, add_camera, add_ground, add_sun, finish, material, new_scene, sun_rotation  # noqa: E402
+from sample_scene import (add_boxes, add_camera, add_ground, add_primitive, add_sun,  # noqa: E402
+                          finish, new_scene, sun_rotation)
 
 
 def main():
@@ -20,13 +19,10 @@ def main():
     add_ground(scene, 60.0)
     add_boxes(scene, "Box", [((0.6, 0.6, 0.6), (0, 0, 0.3), 25)], (0.2, 0.4, 0.8), (-1.6, 4.0, 0))
     add_boxes(scene, "Tower", [((0.35, 0.35, 1.0), (0, 0, 0.5), -10)], (0.8, 0.7, 0.3), (1.8, 6.5, 0))
-    bpy.ops.mesh.primitive_cylinder_add(vertices=32, radius=0.3, depth=0.8, location=(0.4, 2.5, 0.4))
-    bpy.context.object.name = "Cylinder"
-    bpy.context.object.data.materials.append(material("Cylinder", (0.3, 0.7, 0.35)))
-    bpy.ops.mesh.primitive_uv_sphere_add(radius=0.4, location=(-0.4, 8.0, 0.4), segments=32, ring_count=16)
-    bpy.context.object.name = "Sphere"
-    bpy.ops.object.shade_smooth()
-    bpy.context.object.data.materials.append(material("Sphere", (0.8, 0.3, 0.2)))
+    add_primitive("cylinder", "Cylinder", (0.3, 0.7, 0.35),
+                  vertices=32, radius=0.3, depth=0.8, location=(0.4, 2.5, 0.4))
+    add_primitive("uv_sphere", "Sphere", (0.8, 0.3, 0.2),
+                  smooth=True, radius=0.4, location=(-0.4, 8.0, 0.4), segments=32, ring_count=16)
 
     # Light travels towards the camera (-y), turned a little towards -x.
     add_sun(scene, sun_rotation(6, 170), strength=5.0, angle_degrees=2.0)

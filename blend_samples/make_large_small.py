@@ -11,10 +11,9 @@ blender -b --factory-startup --python blend_samples/make_large_small.py -- OUT.b
 import os
 import sys
 
-import bpy
-
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from sample_scene import add_boxes, add_camera, add_ground, add_sun, finish, material, new_scene, sun_rotation  # noqa: E402
+from sample_scene import (add_boxes, add_camera, add_ground, add_primitive, add_sun,  # noqa: E402
+                          finish, new_scene, sun_rotation)
 
 
 def main():
@@ -23,18 +22,14 @@ def main():
     add_ground(scene, 200.0)
     # In view, along the camera's line of sight.
     add_boxes(scene, "Box", [((0.8, 0.8, 0.8), (0, 0, 0.4), 30)], (0.2, 0.4, 0.8), (0.0, 10.0, 0))
-    bpy.ops.mesh.primitive_uv_sphere_add(radius=0.5, location=(-2.0, 40.0, 0.5), segments=32, ring_count=16)
-    bpy.context.object.name = "Sphere"
-    bpy.ops.object.shade_smooth()
-    bpy.context.object.data.materials.append(material("Sphere", (0.8, 0.3, 0.2)))
-    bpy.ops.mesh.primitive_cylinder_add(vertices=32, radius=0.35, depth=1.0, location=(2.0, 70.0, 0.5))
-    bpy.context.object.name = "Cylinder"
-    bpy.context.object.data.materials.append(material("Cylinder", (0.3, 0.7, 0.35)))
+    add_primitive("uv_sphere", "Sphere", (0.8, 0.3, 0.2),
+                  smooth=True, radius=0.5, location=(-2.0, 40.0, 0.5), segments=32, ring_count=16)
+    add_primitive("cylinder", "Cylinder", (0.3, 0.7, 0.35),
+                  vertices=32, radius=0.35, depth=1.0, location=(2.0, 70.0, 0.5))
     # Out of view.
     add_boxes(scene, "Cube", [((0.2, 0.2, 0.2), (0, 0, 0.1))], (0.8, 0.7, 0.3), (-45.0, -30.0, 0))
-    bpy.ops.mesh.primitive_cone_add(vertices=32, radius1=0.3, depth=0.6, location=(55.0, 30.0, 0.3))
-    bpy.context.object.name = "Cone"
-    bpy.context.object.data.materials.append(material("Cone", (0.6, 0.4, 0.7)))
+    add_primitive("cone", "Cone", (0.6, 0.4, 0.7),
+                  vertices=32, radius1=0.3, depth=0.6, location=(55.0, 30.0, 0.3))
 
     # Shadows fall to the camera's left (-x), a little towards it.
     add_sun(scene, sun_rotation(40, 110), strength=3.0, angle_degrees=3.0)

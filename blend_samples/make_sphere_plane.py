@@ -11,22 +11,17 @@ import sys
 import bpy
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from sample_scene import add_sun, finish, material, new_scene  # noqa: E402
+from sample_scene import add_primitive, add_sun, finish, new_scene  # noqa: E402
 
 
 def main():
     out, scene = new_scene("sphere_plane.blend")
 
-    bpy.ops.mesh.primitive_plane_add(size=8.0, location=(0, 0, 0))
-    bpy.context.object.name = "Ground"
-    bpy.context.object.data.materials.append(material("Ground", (0.8, 0.8, 0.8)))
-    bpy.ops.mesh.primitive_uv_sphere_add(radius=0.6, location=(-0.6, 0.2, 0.9), segments=64, ring_count=32)
-    bpy.context.object.name = "Sphere"
-    bpy.ops.object.shade_smooth()
-    bpy.context.object.data.materials.append(material("Sphere", (0.8, 0.3, 0.2)))
-    bpy.ops.mesh.primitive_cube_add(size=0.8, location=(1.0, -0.6, 0.4), rotation=(0, 0, math.radians(30)))
-    bpy.context.object.name = "Box"
-    bpy.context.object.data.materials.append(material("Box", (0.2, 0.4, 0.8)))
+    add_primitive("plane", "Ground", (0.8, 0.8, 0.8), size=8.0, location=(0, 0, 0))
+    add_primitive("uv_sphere", "Sphere", (0.8, 0.3, 0.2),
+                  smooth=True, radius=0.6, location=(-0.6, 0.2, 0.9), segments=64, ring_count=32)
+    add_primitive("cube", "Box", (0.2, 0.4, 0.8),
+                  size=0.8, location=(1.0, -0.6, 0.4), rotation=(0, 0, math.radians(30)))
 
     add_sun(scene, (40, 0, 30))
 

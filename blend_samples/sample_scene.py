@@ -34,6 +34,18 @@ def material(name, color):
     return mat
 
 
+def add_primitive(kind, name, color, smooth=False, **options):
+    """A mesh primitive (bpy.ops.mesh.primitive_<kind>_add(**options)) named
+    `name`, with a material of the same name and colour."""
+    getattr(bpy.ops.mesh, f"primitive_{kind}_add")(**options)
+    obj = bpy.context.object
+    obj.name = name
+    if smooth:
+        bpy.ops.object.shade_smooth()
+    obj.data.materials.append(material(name, color))
+    return obj
+
+
 def add_sun(scene, rotation_degrees, strength=3.0, angle_degrees=5.0):
     sun = bpy.data.lights.new("Sun", "SUN")
     sun.energy = strength
