@@ -146,8 +146,10 @@ void Renderer::begin(GpuScene& scene, const Camera& camera, const std::vector<Li
   const std::vector<uint32_t> casters_before = scene.shadow_casters();
   const bool same_lights = gpu_lights.size() == lights_.size() &&
                            std::memcmp(gpu_lights.data(), lights_.data(), gpu_lights.size() * sizeof(gpu::GpuLight)) == 0;
-  if (scene_changed || scene_ != &scene || !same_lights)
+  if (scene_changed || scene_ != &scene || !same_lights) {
     scene.set_shadow_casters(find_shadow_casters(scene.scene(), lights));
+    sky_blockers_ = sky_blockers(scene.scene(), scene.shadow_casters(), gpu::kMaxSkyBlockers);
+  }
   if (scene_changed || scene_ != &scene || scene.shadow_casters() != casters_before ||
       settings.coarse_resolution != settings_.coarse_resolution ||
       settings.fine_resolution != settings_.fine_resolution || settings.beta != settings_.beta ||
@@ -178,7 +180,11 @@ void Renderer::begin(GpuScene& scene, const Camera& camera, const std::vector<Li
   frame_data_ = {};
   frame_data_.camera_position = glm::vec4(glm::vec3(view_to_world[3]), camera.orthographic ? 1.0f : 0.0f);
   frame_data_.camera_forward = glm::vec4(-glm::normalize(glm::vec3(view_to_world[2])), 0.0f);
-  frame_data_.ambient = glm::vec4(ambient, 0.0f);
+  frame_data_.ambient = glm::vec4(ambient, float(sky_blockers_.size()));
+  for (size_t i = 0; i < sky_blockers_.size(); ++i) {
+    frame_data_.sky_blockers[2 * i] = glm::vec4(sky_blockers_[i].lo, 0.0f);
+    frame_data_.sky_blockers[2 * i + 1] = glm::vec4(sky_blockers_[i].hi, 0.0f);
+  }
   world_to_clip_ = kGlToVulkan * camera.projection * camera.world_to_view;
 
   // Visibility: which field the march reads (and its grid), or the shadow maps.

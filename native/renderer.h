@@ -148,6 +148,7 @@ class Renderer {
   glm::mat4 world_to_clip_{1.0f};
   int light_count_ = 0;
   std::vector<gpu::GpuLight> lights_;  // as last uploaded: a view-only change keeps the shadow casters
+  std::vector<Bounds> sky_blockers_;   // found with the shadow casters
   vk::Buffer light_buffer_;
   vk::Buffer frame_buffer_;
   vk::Image accum_color_;

@@ -112,4 +112,22 @@ std::vector<uint8_t> find_shadow_casters(const Scene& scene, const std::vector<L
   return casters;
 }
 
+std::vector<Bounds> sky_blockers(const Scene& scene, const std::vector<uint32_t>& casters, size_t max_count) {
+  std::vector<std::pair<float, Bounds>> found;  // (area, box)
+  for (uint32_t i = 0; i < scene.instances.size(); ++i) {
+    if (!scene.instances[i].casts_shadow || std::find(casters.begin(), casters.end(), i) != casters.end()) continue;
+    const Bounds box = scene.world_bounds({i});
+    if (box.is_empty()) continue;
+    const glm::vec3 e = box.extent();
+    const float size = glm::max(e.x, glm::max(e.y, e.z));
+    const int thin = e.x <= e.y && e.x <= e.z ? 0 : e.y <= e.z ? 1 : 2;
+    if (e[thin] > kFlatness * size) continue;
+    found.push_back({e[(thin + 1) % 3] * e[(thin + 2) % 3], box});
+  }
+  std::sort(found.begin(), found.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
+  std::vector<Bounds> boxes;
+  for (size_t k = 0; k < found.size() && k < max_count; ++k) boxes.push_back(found[k].second);
+  return boxes;
+}
+
 }  // namespace rtsdf

@@ -22,4 +22,12 @@ namespace rtsdf {
 // Call scene.validate() first.
 std::vector<uint8_t> find_shadow_casters(const Scene& scene, const std::vector<Light>& lights);
 
+// The world boxes of the instances left out for being flat (casts_shadow on,
+// not among `casters`), which still hide the sky behind them: the world
+// light's cone marches stop at them (a ground left out of the SDF would
+// otherwise show the sky below it to every wall and object above). Only
+// boxes thin along a world axis count (a tilted sheet's box would hide far
+// too much); at most `max_count`, the largest first.
+std::vector<Bounds> sky_blockers(const Scene& scene, const std::vector<uint32_t>& casters, size_t max_count);
+
 }  // namespace rtsdf

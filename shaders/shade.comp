@@ -160,6 +160,21 @@ float visibility(vec3 origin, vec3 dir, float t_min, float t_max, float tan_radi
 // the world, occluded by the scene: without this, a room lit through a
 // window glowed everywhere with the world colour. Shadow maps have no view
 // of the sky: csm_evsm leaves the world light unoccluded.
+// Whether a ray from p along dir enters one of the flat receivers left out of
+// the SDF (a ground) ahead of p; p's own surface, which it leaves at once, does not count.
+bool enters_sky_blocker(vec3 p, vec3 dir) {
+  for (int i = 0; i < int(frame.ambient.w); ++i) {
+    vec3 lo = frame.sky_blockers[2 * i].xyz, hi = frame.sky_blockers[2 * i + 1].xyz;
+    vec3 pad = vec3(1e-4 * length(hi - lo));  // a plane's box has no thickness
+    vec3 inv = 1.0 / dir;
+    vec3 t0 = (lo - pad - p) * inv, t1 = (hi + pad - p) * inv;
+    vec3 near = min(t0, t1), far = max(t0, t1);
+    float enter = max(max(near.x, near.y), near.z), leave = min(min(far.x, far.y), far.z);
+    if (enter > 0.0 && enter <= leave) return true;
+  }
+  return false;
+}
+
 float sky_visibility(vec3 origin, vec3 n, bool in_sdf, float jitter, ivec2 pixel) {
   vec3 t = normalize(abs(n.z) < 0.9 ? cross(n, vec3(0.0, 0.0, 1.0)) : cross(n, vec3(1.0, 0.0, 0.0)));
   vec3 b = cross(n, t);
@@ -169,6 +184,7 @@ float sky_visibility(vec3 origin, vec3 n, bool in_sdf, float jitter, ivec2 pixel
     float u2 = hash(uvec3(pixel.yx, uint(pc.image.w) * 4u + 2u * k + 2u));
     float r = sqrt(u1), phi = 6.2831853 * u2;
     vec3 dir = normalize(t * (r * cos(phi)) + b * (r * sin(phi)) + n * sqrt(max(1.0 - u1, 0.0)));
+    if (enters_sky_blocker(origin, dir)) continue;
     sum += visibility(origin, dir, in_sdf ? pc.march.z : 0.0, 1e10, 0.35, jitter, in_sdf ? 2.0 * pc.field_grid.w : 0.0,
                       in_sdf ? n : vec3(0.0), true);
   }

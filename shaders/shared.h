@@ -97,11 +97,16 @@ struct GpuLight {
 };
 
 // Per-frame camera data (a storage buffer, so push constants stay small).
+const uint kMaxSkyBlockers = 8u;
+
 struct FrameData {
   mat4 world_to_clip;   // jittered by a sub-pixel offset per accumulation frame
   vec4 camera_position; // xyz; w = 1 for orthographic cameras
   vec4 camera_forward;  // xyz = view direction (for the Depth pass)
-  vec4 ambient;         // rgb = world colour (uniform environment light)
+  vec4 ambient;         // rgb = world colour (uniform environment light), w = sky blocker count
+  // Flat receivers left out of the SDF that still hide the sky (see
+  // sky_blockers in native/shadow_casters.h): lo, hi of each world box.
+  vec4 sky_blockers[2 * kMaxSkyBlockers];
 };
 
 struct GBufferPush {
@@ -163,7 +168,7 @@ struct EvsmBlurPush {
 #ifdef __cplusplus
 static_assert(sizeof(BvhNode) == 48, "BvhNode layout");
 static_assert(sizeof(GpuLight) == 64, "GpuLight layout");
-static_assert(sizeof(FrameData) == 112, "FrameData layout");
+static_assert(sizeof(FrameData) == 112 + 32 * kMaxSkyBlockers, "FrameData layout");
 static_assert(sizeof(GBufferPush) == 96, "GBufferPush layout");
 static_assert(sizeof(ShadePush) == 112, "ShadePush layout");
 static_assert(sizeof(ShadowTile) == 112, "ShadowTile layout");

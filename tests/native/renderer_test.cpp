@@ -270,6 +270,33 @@ TEST_F(RendererTest, WorldLightIsOccludedUnderARoof) {
       << "the roof's top (seen from above) sees the whole sky";
 }
 
+// A ground left out of the SDF (flat, under everything) still hides the
+// lower half of the sky: a pillar's side sees only the upper half, half of
+// what a vertical surface sees under an open sky (cosine-weighted).
+TEST_F(RendererTest, GroundLeftOutOfTheSdfStillHidesTheSkyBelow) {
+  Scene scene;
+  scene.meshes = {reference::box({-0.5f, -0.5f, 0.0f}, {0.5f, 0.5f, 3.0f}), reference::sheet({-20, -20}, {20, 20}, 0.0f)};
+  scene.instances = {{0, glm::mat4(1.0f)}, {1, glm::mat4(1.0f)}};
+  GpuScene gpu_scene(context(), scene);
+  Camera camera;  // orthographic, level, at the pillar's -y side
+  camera.world_to_view = glm::lookAt(glm::vec3(0, -10, 1.5f), glm::vec3(0, 0, 1.5f), glm::vec3(0, 0, 1));
+  camera.projection = glm::orthoRH_NO(-1.0f, 1.0f, -1.0f, 1.0f, 0.1f, 20.0f);
+  camera.orthographic = true;
+  RenderSettings settings;
+  settings.samples = 16;
+  settings.coarse_resolution = 32;
+  settings.fine_resolution = 64;
+  const int size = 16;
+  Renderer renderer(context());
+  RenderOutput out = renderer.render(gpu_scene, camera, {}, glm::vec3(0.5f), size, size, settings);
+  double sum = 0;
+  for (int y = 6; y < 10; ++y)
+    for (int x = 6; x < 10; ++x) sum += out.combined[4 * (size_t(y) * size + x)];
+  const double side = sum / 16.0, open = 0.8 * 0.5;
+  std::printf("pillar side: %.3f (open sky %.2f; the upper half %.2f)\n", side, open, 0.5 * open);
+  EXPECT_NEAR(side, 0.5 * open, 0.1 * 0.5 * open);
+}
+
 // A closed room whose walls are much thinner than the sky's cones are wide:
 // no world light inside. By the clearance inside the walls alone (about
 // -thickness / 2 against cones metres wide) half the sky shone through them.
