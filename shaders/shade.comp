@@ -163,10 +163,10 @@ float visibility(vec3 origin, vec3 dir, float t_min, float t_max, float tan_radi
 // Whether a ray from p along dir enters one of the flat receivers left out of
 // the SDF (a ground) ahead of p; p's own surface, which it leaves at once, does not count.
 bool enters_sky_blocker(vec3 p, vec3 dir) {
+  vec3 inv = 1.0 / dir;
   for (int i = 0; i < int(frame.ambient.w); ++i) {
     vec3 lo = frame.sky_blockers[2 * i].xyz, hi = frame.sky_blockers[2 * i + 1].xyz;
     vec3 pad = vec3(1e-4 * length(hi - lo));  // a plane's box has no thickness
-    vec3 inv = 1.0 / dir;
     vec3 t0 = (lo - pad - p) * inv, t1 = (hi + pad - p) * inv;
     vec3 near = min(t0, t1), far = max(t0, t1);
     float enter = max(max(near.x, near.y), near.z), leave = min(min(far.x, far.y), far.z);

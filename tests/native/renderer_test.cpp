@@ -25,6 +25,23 @@ using testing::profile;
 
 class RendererTest : public testing::VulkanTest {};
 
+// An orthographic camera at `eye` looking at `target`, seeing `half_size` world units to each side.
+Camera orthographic_view(glm::vec3 eye, glm::vec3 target, glm::vec3 up, float half_size) {
+  Camera camera;
+  camera.world_to_view = glm::lookAt(eye, target, up);
+  camera.projection = glm::orthoRH_NO(-half_size, half_size, -half_size, half_size, 0.1f, 20.0f);
+  camera.orthographic = true;
+  return camera;
+}
+
+// Mean of the red channel of the image over pixels [x0, x1) x [y0, y1).
+double mean_red(const RenderOutput& out, int x0, int y0, int x1, int y1) {
+  double sum = 0;
+  for (int y = y0; y < y1; ++y)
+    for (int x = x0; x < x1; ++x) sum += out.combined[4 * (size_t(y) * out.width + x)];
+  return sum / double((x1 - x0) * (y1 - y0));
+}
+
 // The ground is 40 units wide, ten times the view: it only receives shadows,
 // so it is left out of the SDF and the grid is fitted to the sphere alone (a
 // grid over the ground would have voxels of a third of a unit). Its points
@@ -37,10 +54,7 @@ TEST_F(RendererTest, SpherePenumbraMatchesAnalyticWidth) {
   scene.instances = {{0, glm::mat4(1.0f), glm::vec3(0.8f)}, {1, glm::mat4(1.0f), glm::vec3(0.8f)}};
   GpuScene gpu_scene(context(), scene);
 
-  Camera camera;  // orthographic, straight down, 4 x 4 world units
-  camera.world_to_view = glm::lookAt(glm::vec3(0, 0, 10), glm::vec3(0, 0, 0), glm::vec3(0, 1, 0));
-  camera.projection = glm::orthoRH_NO(-2.0f, 2.0f, -2.0f, 2.0f, 0.1f, 20.0f);
-  camera.orthographic = true;
+  const Camera camera = orthographic_view({0, 0, 10}, {0, 0, 0}, {0, 1, 0}, 2.0f);  // straight down, 4 x 4 world units
   Light sun;
   sun.type = LightType::Sun;
   // 45 degrees from overhead, shining towards +x: the shadow's far edge (near
@@ -167,10 +181,7 @@ TEST_F(RendererTest, ShadowOfAnObjectRestingOnTheGroundStartsAtItsFoot) {
   scene.meshes = {reference::box({-0.5f, -0.5f, 0.0f}, {0.5f, 0.5f, 1.0f}), reference::sheet({-5, -5}, {5, 5}, 0.0f)};
   scene.instances = {{0, glm::mat4(1.0f)}, {1, glm::mat4(1.0f)}};
   GpuScene gpu_scene(context(), scene);
-  Camera camera;  // orthographic, straight down, x and y in [-2, 2]
-  camera.world_to_view = glm::lookAt(glm::vec3(0, 0, 10), glm::vec3(0, 0, 0), glm::vec3(0, 1, 0));
-  camera.projection = glm::orthoRH_NO(-2.0f, 2.0f, -2.0f, 2.0f, 0.1f, 20.0f);
-  camera.orthographic = true;
+  const Camera camera = orthographic_view({0, 0, 10}, {0, 0, 0}, {0, 1, 0}, 2.0f);  // straight down, x and y in [-2, 2]
   Light sun;  // 45 degrees, towards +x: the shadow covers x in [0.5, 1.5] behind the box
   sun.type = LightType::Sun;
   sun.direction = {1.0f, 0.0f, -1.0f};
@@ -244,10 +255,8 @@ TEST_F(RendererTest, WorldLightIsOccludedUnderARoof) {
   scene.meshes = {reference::box({-1.5f, -1.5f, 0.6f}, {1.5f, 1.5f, 0.8f}), reference::sheet({-20, -20}, {20, 20}, 0.0f)};
   scene.instances = {{0, glm::mat4(1.0f)}, {1, glm::mat4(1.0f)}};
   GpuScene gpu_scene(context(), scene);
-  Camera camera;  // orthographic, straight down: the roof and the ground around it
-  camera.world_to_view = glm::lookAt(glm::vec3(0, 0, 10), glm::vec3(0, 0, 0), glm::vec3(0, 1, 0));
-  camera.projection = glm::orthoRH_NO(-4.0f, 4.0f, -4.0f, 4.0f, 0.1f, 20.0f);
-  camera.orthographic = true;
+  // Straight down: the roof and the ground around it.
+  const Camera camera = orthographic_view({0, 0, 10}, {0, 0, 0}, {0, 1, 0}, 4.0f);
   RenderSettings settings;
   settings.samples = 16;
   const int size = 64;
@@ -258,10 +267,7 @@ TEST_F(RendererTest, WorldLightIsOccludedUnderARoof) {
   // samples (two a frame), and a sample is either blocked or not.
   auto ground_at = [&](double x) {
     const int i = std::clamp(int((x + 4.0) / 8.0 * size), 2, size - 3);
-    double sum = 0;
-    for (int dy = -2; dy <= 2; ++dy)
-      for (int dx = -2; dx <= 2; ++dx) sum += out.combined[4 * (size_t(size / 2 + dy) * size + i + dx)];
-    return float(sum / 25.0);
+    return float(mean_red(out, i - 2, size / 2 - 2, i + 3, size / 2 + 3));
   };
   const float open = 0.8f * 0.5f;
   EXPECT_NEAR(ground_at(3.7), open, 0.03f * open) << "open ground sees the whole sky";
@@ -278,10 +284,7 @@ TEST_F(RendererTest, GroundLeftOutOfTheSdfStillHidesTheSkyBelow) {
   scene.meshes = {reference::box({-0.5f, -0.5f, 0.0f}, {0.5f, 0.5f, 3.0f}), reference::sheet({-20, -20}, {20, 20}, 0.0f)};
   scene.instances = {{0, glm::mat4(1.0f)}, {1, glm::mat4(1.0f)}};
   GpuScene gpu_scene(context(), scene);
-  Camera camera;  // orthographic, level, at the pillar's -y side
-  camera.world_to_view = glm::lookAt(glm::vec3(0, -10, 1.5f), glm::vec3(0, 0, 1.5f), glm::vec3(0, 0, 1));
-  camera.projection = glm::orthoRH_NO(-1.0f, 1.0f, -1.0f, 1.0f, 0.1f, 20.0f);
-  camera.orthographic = true;
+  const Camera camera = orthographic_view({0, -10, 1.5f}, {0, 0, 1.5f}, {0, 0, 1}, 1.0f);  // level, at the -y side
   RenderSettings settings;
   settings.samples = 16;
   settings.coarse_resolution = 32;
@@ -289,10 +292,7 @@ TEST_F(RendererTest, GroundLeftOutOfTheSdfStillHidesTheSkyBelow) {
   const int size = 16;
   Renderer renderer(context());
   RenderOutput out = renderer.render(gpu_scene, camera, {}, glm::vec3(0.5f), size, size, settings);
-  double sum = 0;
-  for (int y = 6; y < 10; ++y)
-    for (int x = 6; x < 10; ++x) sum += out.combined[4 * (size_t(y) * size + x)];
-  const double side = sum / 16.0, open = 0.8 * 0.5;
+  const double side = mean_red(out, 6, 6, 10, 10), open = 0.8 * 0.5;
   std::printf("pillar side: %.3f (open sky %.2f; the upper half %.2f)\n", side, open, 0.5 * open);
   EXPECT_NEAR(side, 0.5 * open, 0.1 * 0.5 * open);
 }
@@ -318,9 +318,7 @@ TEST_F(RendererTest, NoWorldLightInsideAClosedRoom) {
   const int size = 32;
   Renderer renderer(context());
   RenderOutput out = renderer.render(scene, camera, {}, glm::vec3(0.5f), size, size, settings);
-  double sum = 0;
-  for (int i = 0; i < size * size; ++i) sum += out.combined[4 * size_t(i)];
-  const double mean = sum / (size * size), open = 0.8 * 0.5;
+  const double mean = mean_red(out, 0, 0, size, size), open = 0.8 * 0.5;
   std::printf("floor of a closed room: mean %.4f (open sky would give %.2f)\n", mean, open);
   EXPECT_LT(mean, 0.05 * open);
 }
