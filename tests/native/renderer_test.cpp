@@ -34,6 +34,15 @@ Camera orthographic_view(glm::vec3 eye, glm::vec3 target, glm::vec3 up, float ha
   return camera;
 }
 
+// A box from `lo` to `hi` on a square ground sheet at z = 0 reaching `ground_half` each way.
+Scene box_on_ground(glm::vec3 lo, glm::vec3 hi, float ground_half) {
+  Scene scene;
+  scene.meshes = {reference::box(lo, hi),
+                  reference::sheet({-ground_half, -ground_half}, {ground_half, ground_half}, 0.0f)};
+  scene.instances = {{0, glm::mat4(1.0f)}, {1, glm::mat4(1.0f)}};
+  return scene;
+}
+
 // Mean of the red channel of the image over pixels [x0, x1) x [y0, y1).
 double mean_red(const RenderOutput& out, int x0, int y0, int x1, int y1) {
   double sum = 0;
@@ -177,10 +186,7 @@ namespace {
 // its foot, with no lit gap (the ground's marches start on the ground, as
 // nothing of the ground is in the SDF).
 TEST_F(RendererTest, ShadowOfAnObjectRestingOnTheGroundStartsAtItsFoot) {
-  Scene scene;
-  scene.meshes = {reference::box({-0.5f, -0.5f, 0.0f}, {0.5f, 0.5f, 1.0f}), reference::sheet({-5, -5}, {5, 5}, 0.0f)};
-  scene.instances = {{0, glm::mat4(1.0f)}, {1, glm::mat4(1.0f)}};
-  GpuScene gpu_scene(context(), scene);
+  GpuScene gpu_scene(context(), box_on_ground({-0.5f, -0.5f, 0.0f}, {0.5f, 0.5f, 1.0f}, 5.0f));
   const Camera camera = orthographic_view({0, 0, 10}, {0, 0, 0}, {0, 1, 0}, 2.0f);  // straight down, x and y in [-2, 2]
   Light sun;  // 45 degrees, towards +x: the shadow covers x in [0.5, 1.5] behind the box
   sun.type = LightType::Sun;
@@ -251,10 +257,7 @@ namespace {
 // The world light is occluded through the SDF: the ground under a wide roof
 // sees little sky, the open ground all of it.
 TEST_F(RendererTest, WorldLightIsOccludedUnderARoof) {
-  Scene scene;
-  scene.meshes = {reference::box({-1.5f, -1.5f, 0.6f}, {1.5f, 1.5f, 0.8f}), reference::sheet({-20, -20}, {20, 20}, 0.0f)};
-  scene.instances = {{0, glm::mat4(1.0f)}, {1, glm::mat4(1.0f)}};
-  GpuScene gpu_scene(context(), scene);
+  GpuScene gpu_scene(context(), box_on_ground({-1.5f, -1.5f, 0.6f}, {1.5f, 1.5f, 0.8f}, 20.0f));
   // Straight down: the roof and the ground around it.
   const Camera camera = orthographic_view({0, 0, 10}, {0, 0, 0}, {0, 1, 0}, 4.0f);
   RenderSettings settings;
@@ -280,10 +283,7 @@ TEST_F(RendererTest, WorldLightIsOccludedUnderARoof) {
 // lower half of the sky: a pillar's side sees only the upper half, half of
 // what a vertical surface sees under an open sky (cosine-weighted).
 TEST_F(RendererTest, GroundLeftOutOfTheSdfStillHidesTheSkyBelow) {
-  Scene scene;
-  scene.meshes = {reference::box({-0.5f, -0.5f, 0.0f}, {0.5f, 0.5f, 3.0f}), reference::sheet({-20, -20}, {20, 20}, 0.0f)};
-  scene.instances = {{0, glm::mat4(1.0f)}, {1, glm::mat4(1.0f)}};
-  GpuScene gpu_scene(context(), scene);
+  GpuScene gpu_scene(context(), box_on_ground({-0.5f, -0.5f, 0.0f}, {0.5f, 0.5f, 3.0f}, 20.0f));
   const Camera camera = orthographic_view({0, -10, 1.5f}, {0, 0, 1.5f}, {0, 0, 1}, 1.0f);  // level, at the -y side
   RenderSettings settings;
   settings.samples = 16;
