@@ -111,4 +111,18 @@ Bvh build_mesh_bvh(const Mesh& mesh) {
   return build_bvh(boxes);
 }
 
+std::vector<gpu::BvhNode> gpu_nodes(const Bvh& bvh, uint32_t node_offset, uint32_t primitive_offset) {
+  std::vector<gpu::BvhNode> nodes;
+  nodes.reserve(bvh.nodes.size());
+  for (const BvhBuildNode& n : bvh.nodes) {
+    gpu::BvhNode node{};
+    node.lo = glm::vec4(n.box.lo, 0.0f);
+    node.hi = glm::vec4(n.box.hi, 0.0f);
+    node.count = n.count;
+    node.first = n.count > 0 ? n.first + primitive_offset : n.first + node_offset;
+    nodes.push_back(node);
+  }
+  return nodes;
+}
+
 }  // namespace rtsdf

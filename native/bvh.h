@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "scene.h"
+#include "shaders/shared.h"
 
 namespace rtsdf {
 
@@ -37,6 +38,11 @@ struct Bvh {
 
 // Binned SAH (16 bins per axis), at most `max_leaf` primitives per leaf.
 Bvh build_bvh(const std::vector<Aabb>& boxes, uint32_t max_leaf = 4);
+
+// The nodes as the shaders read them (gpu::BvhNode), for a BVH whose nodes
+// start at `node_offset` in their buffer and whose leaves' primitives start
+// at `primitive_offset` in theirs.
+std::vector<gpu::BvhNode> gpu_nodes(const Bvh& bvh, uint32_t node_offset = 0, uint32_t primitive_offset = 0);
 
 // Bottom level of one mesh: triangles in object space.
 Bvh build_mesh_bvh(const Mesh& mesh);

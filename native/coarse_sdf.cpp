@@ -23,8 +23,10 @@ std::vector<T> read_image(const vk::Context& context, const vk::Image& image) {
 
 size_t coarse_sdf_bytes(const GridSpec& grid) { return grid.voxel_count() * 4 * sizeof(uint32_t); }
 
-CoarseSdf::CoarseSdf(const vk::Context& context)
-    : context_(context), voxelize_(context), jump_flood_(context), timer_(context, 64) {}
+CoarseSdf::CoarseSdf(const vk::Context& context, std::shared_ptr<CoarsePasses> passes)
+    : context_(context),
+      passes_(passes ? std::move(passes) : std::make_shared<CoarsePasses>(context)),
+      timer_(context, 64) {}
 
 void CoarseSdf::allocate(const GridSpec& grid) {
   if (distance_.dims() == grid.dims) return;
@@ -43,15 +45,27 @@ void CoarseSdf::allocate(const GridSpec& grid) {
 }
 
 void CoarseSdf::build(const GpuScene& scene, const GridSpec& grid, float beta_voxels) {
+  std::vector<VoxelizeItem> items;
+  for (uint32_t i : scene.shadow_casters())
+    items.push_back({scene.instances()[i].mesh, scene.instances()[i].object_to_world});
+  build(scene, grid, beta_voxels, items);
+}
+
+void CoarseSdf::build_mesh(const GpuScene& scene, uint32_t mesh, const GridSpec& grid, float beta_voxels) {
+  build(scene, grid, beta_voxels, {{mesh, glm::mat4(1.0f)}});
+}
+
+void CoarseSdf::build(const GpuScene& scene, const GridSpec& grid, float beta_voxels,
+                      const std::vector<VoxelizeItem>& items) {
   allocate(grid);
   grid_ = grid;
   beta_world_ = beta_voxels * grid.voxel_size;
   context_.submit_and_wait([&](VkCommandBuffer cmd) {
     timer_.begin(cmd);
-    voxelize_.record(cmd, scene, grid, seeds_);
+    passes_->voxelize.record(cmd, scene, grid, seeds_, items);
     timer_.mark(cmd, "voxelize");
-    const vk::Image& nearest = jump_flood_.record_flood(cmd, seeds_, flood_a_, flood_b_, &timer_);
-    jump_flood_.record_distance(cmd, nearest, distance_, grid.voxel_size, beta_world_);
+    const vk::Image& nearest = passes_->jump_flood.record_flood(cmd, seeds_, flood_a_, flood_b_, &timer_);
+    passes_->jump_flood.record_distance(cmd, nearest, distance_, grid.voxel_size, beta_world_);
     timer_.mark(cmd, "seed distance");
   });
   timings_ = {};

@@ -1,6 +1,7 @@
 #pragma once
 // Stage 1 of RTSDF: the coarse SDF, voxelize -> jump flood -> distance - beta.
 // The result stays on the device (distance()) for the later stages.
+#include <memory>
 #include <optional>
 #include <vector>
 
@@ -23,13 +24,29 @@ struct CoarseSdfTimings {
   double gpu_total_ms = 0.0;
 };
 
+// Bytes of device memory a coarse SDF of `grid` needs.
+size_t coarse_sdf_bytes(const GridSpec& grid);
+
+// The passes a coarse SDF is built with; fields may share one (its pipelines are the costly part).
+struct CoarsePasses {
+  explicit CoarsePasses(const vk::Context& context) : voxelize(context), jump_flood(context) {}
+  VoxelizePass voxelize;
+  JumpFloodPass jump_flood;
+};
+
 class CoarseSdf {
  public:
-  explicit CoarseSdf(const vk::Context& context);
+  // `passes` null: passes of its own.
+  explicit CoarseSdf(const vk::Context& context, std::shared_ptr<CoarsePasses> passes = nullptr);
 
-  // Builds the coarse SDF of `scene` on `grid` (usually fit_grid(scene.bounds(), ...)).
+  // Builds the coarse SDF of the scene's shadow casters on `grid` in world
+  // space (usually fit_grid(scene.bounds(), ...)).
   // Throws rtsdf::Error if the grid does not fit in device memory.
   void build(const GpuScene& scene, const GridSpec& grid, float beta_voxels);
+  // Builds the coarse SDF of one mesh alone on `grid` in the mesh's own space.
+  void build_mesh(const GpuScene& scene, uint32_t mesh, const GridSpec& grid, float beta_voxels);
+  // Device memory of the grid's images.
+  size_t bytes() const { return coarse_sdf_bytes(grid_); }
 
   const GridSpec& grid() const { return grid_; }
   float beta_world() const { return beta_world_; }
@@ -42,10 +59,10 @@ class CoarseSdf {
 
  private:
   void allocate(const GridSpec& grid);
+  void build(const GpuScene& scene, const GridSpec& grid, float beta_voxels, const std::vector<VoxelizeItem>& items);
 
   const vk::Context& context_;
-  VoxelizePass voxelize_;
-  JumpFloodPass jump_flood_;
+  std::shared_ptr<CoarsePasses> passes_;
   vk::GpuTimer timer_;
   GridSpec grid_;
   float beta_world_ = 0.0f;
@@ -55,8 +72,5 @@ class CoarseSdf {
   vk::Image distance_;
   CoarseSdfTimings timings_;
 };
-
-// Bytes of device memory a coarse SDF of `grid` needs.
-size_t coarse_sdf_bytes(const GridSpec& grid);
 
 }  // namespace rtsdf

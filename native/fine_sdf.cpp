@@ -23,11 +23,17 @@ GridSpec FineSdf::fit(const GridSpec& coarse, int fine_resolution) {
   return fine;
 }
 
-FineSdf::FineSdf(const vk::Context& context) : context_(context), pass_(context), timer_(context, 8) {}
+FineSdf::FineSdf(const vk::Context& context, std::shared_ptr<const FineTracePass> pass)
+    : context_(context),
+      pass_(pass ? std::move(pass) : std::make_shared<const FineTracePass>(context)),
+      timer_(context, 8),
+      traced_(context, sizeof(uint32_t), VK_BUFFER_USAGE_TRANSFER_DST_BIT, vk::Buffer::Access::HostVisible) {
+  std::memset(traced_.mapped(), 0, sizeof(uint32_t));
+}
 
 void FineSdf::allocate(const GridSpec& grid) {
   if (distance_.dims() == grid.dims && grid.origin == grid_.origin && grid.voxel_size == grid_.voxel_size) return;
-  const size_t needed = grid.voxel_count() * (4 + 16 + 4);
+  const size_t needed = grid.voxel_count() * kBytesPerTexel;
   if (needed > context_.device_local_heap_bytes() * 3 / 4)
     throw Error("the fine grid needs " + std::to_string(needed >> 20) + " MiB: lower the fine resolution");
   const VkImageUsageFlags usage =
@@ -48,16 +54,26 @@ void FineSdf::allocate(const GridSpec& grid) {
 
 void FineSdf::update(GpuScene& scene, const CoarseSdf& coarse, const GridSpec& fine_grid,
                      const FineTraceSettings& settings, const Bounds* changed) {
+  update(scene.ray_structures().targets(), coarse, fine_grid, settings, changed);
+}
+
+void FineSdf::update(const GpuScene::RayTargets& rays, const CoarseSdf& coarse, const GridSpec& fine_grid,
+                     const FineTraceSettings& settings, const Bounds* changed) {
   if (settings.rays_per_texel < 1 || settings.rays_per_texel > 1024) throw Error("rays per texel must be 1 to 1024");
   if (!(settings.decay >= 0.0f && settings.decay < 1.0f)) throw Error("decay (alpha) must be in [0, 1)");
   if (settings.interleave < 1 || settings.interleave > 64) throw Error("interleave must be 1 to 64");
   if (!(settings.trace_band >= 0.0f && settings.trace_band <= 64.0f)) throw Error("trace band d must be 0 to 64 coarse voxels");
   allocate(fine_grid);
-  const GpuScene::RayStructures& rays = scene.ray_structures();
   context_.submit_and_wait([&](VkCommandBuffer cmd) {
     timer_.begin(cmd);
-    pass_.record(cmd, rays, coarse.grid(), coarse.distance(), grid_, distance_, hit_counts_, trace_list_, dispatch_,
-                 settings, coarse.beta_world(), frame_, frame_ == 0, changed, &timer_);
+    pass_->record(cmd, rays, coarse.grid(), coarse.distance(), grid_, distance_, hit_counts_, trace_list_, dispatch_,
+                  settings, coarse.beta_world(), frame_, frame_ == 0, changed, &timer_);
+    vk::memory_barrier(cmd, VK_ACCESS_SHADER_WRITE_BIT, VK_ACCESS_TRANSFER_READ_BIT,
+                       VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT);
+    VkBufferCopy count{0, 0, sizeof(uint32_t)};
+    vkCmdCopyBuffer(cmd, trace_list_.handle(), traced_.handle(), 1, &count);
+    vk::memory_barrier(cmd, VK_ACCESS_TRANSFER_WRITE_BIT, VK_ACCESS_HOST_READ_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT,
+                       VK_PIPELINE_STAGE_HOST_BIT);
   });
   stats_ = {};
   for (const vk::GpuTimer::Span& span : timer_.read()) {
@@ -75,17 +91,8 @@ std::vector<float> FineSdf::read_distance() const {
 }
 
 uint32_t FineSdf::read_traced_texels() const {
-  vk::Buffer readback(context_, sizeof(uint32_t), VK_BUFFER_USAGE_TRANSFER_DST_BIT, vk::Buffer::Access::HostVisible);
-  context_.submit_and_wait([&](VkCommandBuffer cmd) {
-    vk::memory_barrier(cmd, VK_ACCESS_SHADER_WRITE_BIT, VK_ACCESS_TRANSFER_READ_BIT,
-                       VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT);
-    VkBufferCopy region{0, 0, sizeof(uint32_t)};
-    vkCmdCopyBuffer(cmd, trace_list_.handle(), readback.handle(), 1, &region);
-    vk::memory_barrier(cmd, VK_ACCESS_TRANSFER_WRITE_BIT, VK_ACCESS_HOST_READ_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT,
-                       VK_PIPELINE_STAGE_HOST_BIT);
-  });
   uint32_t count = 0;
-  std::memcpy(&count, readback.mapped(), sizeof count);
+  std::memcpy(&count, traced_.mapped(), sizeof count);
   return count;
 }
 

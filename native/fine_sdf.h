@@ -1,6 +1,7 @@
 #pragma once
 // Stage 2 of RTSDF: the fine SDF, ray traced near surfaces and accumulated
 // over frames on the device. Nothing is read back in the frame loop.
+#include <memory>
 #include <vector>
 
 #include "coarse_sdf.h"
@@ -16,7 +17,8 @@ struct FineFrameStats {
 
 class FineSdf {
  public:
-  explicit FineSdf(const vk::Context& context);
+  // `pass` may be shared between fields (its pipelines are the costly part); null: a pass of its own.
+  explicit FineSdf(const vk::Context& context, std::shared_ptr<const FineTracePass> pass = nullptr);
 
   // The fine grid: `fine_resolution` voxels on the longest axis over the coarse grid's bounds.
   static GridSpec fit(const GridSpec& coarse, int fine_resolution);
@@ -25,6 +27,9 @@ class FineSdf {
   // (with `changed`: only the band near that world region; the rest keeps
   // its values). A new grid or reset() starts accumulation afresh.
   void update(GpuScene& scene, const CoarseSdf& coarse, const GridSpec& fine_grid,
+              const FineTraceSettings& settings, const Bounds* changed = nullptr);
+  // The same, tracing `rays` (one mesh in its own space: GpuScene::mesh_rays).
+  void update(const GpuScene::RayTargets& rays, const CoarseSdf& coarse, const GridSpec& fine_grid,
               const FineTraceSettings& settings, const Bounds* changed = nullptr);
   void reset() { frame_ = 0; }
 
@@ -35,19 +40,23 @@ class FineSdf {
 
   // Read-backs for tools and tests (x fastest).
   std::vector<float> read_distance() const;
-  uint32_t read_traced_texels() const;  // texels in the band in the last frame
+  uint32_t read_traced_texels() const;  // texels traced in the last update (0 before any)
+  // Device memory of the grid's images and lists.
+  size_t bytes() const { return grid_.voxel_count() * kBytesPerTexel; }
+  static constexpr size_t kBytesPerTexel = 4 + 16 + 4;  // distance, hit counts, trace list
 
  private:
   void allocate(const GridSpec& grid);
 
   const vk::Context& context_;
-  FineTracePass pass_;
+  std::shared_ptr<const FineTracePass> pass_;
   vk::GpuTimer timer_;
   GridSpec grid_;
   vk::Image distance_;
   vk::Image hit_counts_;
   vk::Buffer trace_list_;
   vk::Buffer dispatch_;
+  vk::Buffer traced_;  // host-visible copy of the last update's trace count
   uint32_t frame_ = 0;
   FineFrameStats stats_;
 };

@@ -1,6 +1,7 @@
 #include "gpu_scene.h"
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstring>
@@ -18,24 +19,22 @@ double ms_since(Clock::time_point start) {
   return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
 }
 
-gpu::BvhNode to_gpu(const BvhBuildNode& n, uint32_t node_offset, uint32_t primitive_offset) {
-  gpu::BvhNode node{};
-  node.lo = glm::vec4(n.box.lo, 0.0f);
-  node.hi = glm::vec4(n.box.hi, 0.0f);
-  node.count = n.count;
-  node.first = n.count > 0 ? n.first + primitive_offset : n.first + node_offset;
-  return node;
-}
-
 template <typename T>
 vk::Buffer storage(const vk::Context& context, const std::vector<T>& data) {
   return vk::upload_buffer(context, data.data(), data.size() * sizeof(T), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
 }
 
+uint64_t next_scene_id() {
+  static std::atomic<uint64_t> next{1};
+  return next++;
+}
+
 }  // namespace
 
-GpuScene::GpuScene(const vk::Context& context, const Scene& scene) : context_(context), scene_(scene) {
+GpuScene::GpuScene(const vk::Context& context, const Scene& scene)
+    : context_(context), id_(next_scene_id()), scene_(scene) {
   scene_.validate();
+  mesh_versions_.assign(scene_.meshes.size(), 0);
   for (uint32_t i = 0; i < scene_.instances.size(); ++i)
     if (scene_.instances[i].casts_shadow) casters_.push_back(i);
   update_bounds();
@@ -88,6 +87,32 @@ const GpuScene::RayStructures& GpuScene::ray_structures() {
   return rays_;
 }
 
+GpuScene::RayTargets GpuScene::mesh_rays(uint32_t mesh) {
+  const RayStructures& rays = ray_structures();
+  if (mesh >= scene_.meshes.size()) throw Error("mesh_rays: no mesh " + std::to_string(mesh));
+  mesh_tops_.resize(scene_.meshes.size());
+  MeshTop& top = mesh_tops_[mesh];
+  if (!top.top_nodes) {
+    gpu::BvhNode root = gpu_nodes(mesh_bvhs_[mesh])[0];
+    root.first = 0;
+    root.count = 1;  // a leaf over the one instance
+    gpu::RayInstance instance{};
+    instance.world_to_object = instance.object_to_world = glm::mat4(1.0f);
+    instance.blas_root = blas_roots_[mesh];
+    top.top_nodes = storage(context_, std::vector<gpu::BvhNode>{root});
+    top.instances = storage(context_, std::vector<gpu::RayInstance>{instance});
+  }
+  return {top.top_nodes, top.instances, rays.bottom_nodes, rays.triangles};
+}
+
+Bounds GpuScene::mesh_bounds(uint32_t mesh) const {
+  const Mesh& m = scene_.meshes.at(mesh);
+  if (m.positions.empty()) return Bounds::empty();
+  Bounds b{m.positions[0], m.positions[0]};
+  for (const glm::vec3& p : m.positions) b.lo = glm::min(b.lo, p), b.hi = glm::max(b.hi, p);
+  return b;
+}
+
 void GpuScene::upload_raster() {
   std::vector<glm::vec3> positions, normals;
   std::vector<uint32_t> indices;
@@ -121,7 +146,8 @@ void GpuScene::upload_bottom_levels() {
     const Bvh& bvh = mesh_bvhs_[m];
     const uint32_t node_offset = uint32_t(nodes.size()), triangle_offset = uint32_t(corners.size() / 3);
     blas_roots_.push_back(node_offset);
-    for (const BvhBuildNode& n : bvh.nodes) nodes.push_back(to_gpu(n, node_offset, triangle_offset));
+    const std::vector<gpu::BvhNode> mesh_nodes = gpu_nodes(bvh, node_offset, triangle_offset);
+    nodes.insert(nodes.end(), mesh_nodes.begin(), mesh_nodes.end());
     // The first corner's w is the thickness of the triangle's piece (0: open), see mesh_topology.h.
     for (uint32_t t : bvh.order)
       for (int k = 0; k < 3; ++k)
@@ -129,6 +155,7 @@ void GpuScene::upload_bottom_levels() {
   }
   rays_.bottom_nodes = storage(context_, nodes);
   rays_.triangles = storage(context_, corners);
+  mesh_tops_.clear();  // (their roots may have moved)
 }
 
 void GpuScene::build_top_level() {
@@ -146,8 +173,6 @@ void GpuScene::build_top_level() {
     boxes.push_back(box);
   }
   Bvh top = build_bvh(boxes, 1);
-  std::vector<gpu::BvhNode> nodes;
-  for (const BvhBuildNode& n : top.nodes) nodes.push_back(to_gpu(n, 0, 0));
   std::vector<gpu::RayInstance> instances;
   for (uint32_t i : top.order) {
     const Instance& instance = scene_.instances[casters_[i]];
@@ -158,7 +183,7 @@ void GpuScene::build_top_level() {
     ray.mirrored = glm::determinant(glm::mat3(instance.object_to_world)) < 0.0f ? 1u : 0u;
     instances.push_back(ray);
   }
-  rays_.top_nodes = storage(context_, nodes);
+  rays_.top_nodes = storage(context_, gpu_nodes(top));
   rays_.instances = storage(context_, instances);
 }
 
@@ -192,6 +217,7 @@ void GpuScene::set_mesh_positions(uint32_t mesh, const std::vector<glm::vec3>& p
   for (uint32_t i = 0; i < scene_.instances.size(); ++i)
     if (scene_.instances[i].mesh == mesh) mark_changed(i);  // the old shape
   scene_ = std::move(deformed);
+  mesh_versions_[mesh]++;
   for (uint32_t i = 0; i < scene_.instances.size(); ++i)
     if (scene_.instances[i].mesh == mesh) mark_changed(i);  // the new one
   update_bounds();

@@ -23,11 +23,20 @@ class GpuScene {
   // Validates and uploads `scene`; throws rtsdf::Error on bad input.
   GpuScene(const vk::Context& context, const Scene& scene);
 
+  // What a ray tracer binds (shaders/ray_trace.glsl.h): a top level over
+  // placed meshes and the bottom levels it refers to.
+  struct RayTargets {
+    const vk::Buffer& top_nodes;
+    const vk::Buffer& instances;
+    const vk::Buffer& bottom_nodes;
+    const vk::Buffer& triangles;
+  };
   struct RayStructures {
     vk::Buffer top_nodes;
     vk::Buffer instances;
     vk::Buffer bottom_nodes;
     vk::Buffer triangles;  // three corners per triangle, in bottom-level leaf order; w of the first: piece thickness
+    RayTargets targets() const { return {top_nodes, instances, bottom_nodes, triangles}; }
   };
 
   // A rigid motion: only the top level is rebuilt.
@@ -67,6 +76,16 @@ class GpuScene {
   // The BVHs over the shadow casters, built (or brought up to date) on first
   // use. Throws rtsdf::Error when there is no shadow caster.
   const RayStructures& ray_structures();
+  // One mesh alone in its own space (a top level of one untransformed
+  // instance over its bottom level), for tracing its object-space field.
+  // Builds the ray structures first if needed.
+  RayTargets mesh_rays(uint32_t mesh);
+  // Object-space bounds of a mesh's vertices (empty for a mesh without any).
+  Bounds mesh_bounds(uint32_t mesh) const;
+  // Counts the geometry changes of a mesh (set_mesh_positions), from 0.
+  uint64_t mesh_version(uint32_t mesh) const { return mesh_versions_.at(mesh); }
+  // Tells this scene from any other made in the process, even at the same address.
+  uint64_t id() const { return id_; }
   // CPU milliseconds of the last BVH work (bottom levels built + top level); 0 before any.
   double bvh_build_ms() const { return bvh_build_ms_; }
 
@@ -78,8 +97,16 @@ class GpuScene {
   void update_bounds();
   void mark_changed(uint32_t instance);  // adds the instance's current world bounds, if it casts shadows
 
+  struct MeshTop {
+    vk::Buffer top_nodes;
+    vk::Buffer instances;
+  };
+
   const vk::Context& context_;
+  uint64_t id_;
   Scene scene_;
+  std::vector<uint64_t> mesh_versions_;
+  std::vector<MeshTop> mesh_tops_;  // for mesh_rays(), made on first use (empty buffers: not yet)
   std::vector<uint32_t> casters_;  // instance indices
   Bounds bounds_;
   Changes changes_;

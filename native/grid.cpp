@@ -35,4 +35,20 @@ GridSpec fit_grid(const Bounds& bounds, int resolution) {
   return grid;
 }
 
+GridSpec keep_or_fit_grid(const GridSpec* current, const Bounds& bounds, int resolution, float slack) {
+  const GridSpec tight = fit_grid(bounds, resolution);
+  if (slack <= 0.0f) return tight;
+  if (current && current->voxel_count() > 0) {
+    const float margin =
+        float(margin_voxels(std::max(current->dims.x, std::max(current->dims.y, current->dims.z)))) * current->voxel_size;
+    const glm::vec3 lo = current->origin + margin;
+    const glm::vec3 hi = current->origin + glm::vec3(current->dims) * current->voxel_size - margin;
+    if (glm::all(glm::greaterThanEqual(bounds.lo, lo)) && glm::all(glm::lessThanEqual(bounds.hi, hi)) &&
+        current->voxel_size <= tight.voxel_size * (1.0f + 2.0f * slack))
+      return *current;
+  }
+  const glm::vec3 room = 0.5f * slack * bounds.extent();
+  return fit_grid(Bounds{bounds.lo - room, bounds.hi + room}, resolution);
+}
+
 }  // namespace rtsdf

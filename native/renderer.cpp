@@ -35,27 +35,31 @@ std::vector<T> read_plane(const vk::Context& context, const vk::Image& image, in
   return values;
 }
 
-// Whether `current` may stay the grid for casters within `bounds`: they lie
-// inside it (clear of its margin) and it is not much coarser than `tight`.
-bool grid_still_fits(const GridSpec& current, const Bounds& bounds, const GridSpec& tight, float slack) {
-  if (slack <= 0.0f) return false;
-  const float margin = float(margin_voxels(std::max(current.dims.x, std::max(current.dims.y, current.dims.z)))) *
-                       current.voxel_size;
-  const glm::vec3 lo = current.origin + margin, hi = current.origin + glm::vec3(current.dims) * current.voxel_size - margin;
-  return glm::all(glm::greaterThanEqual(bounds.lo, lo)) && glm::all(glm::lessThanEqual(bounds.hi, hi)) &&
-         current.voxel_size <= tight.voxel_size * (1.0f + 2.0f * slack);
-}
-
 struct MethodName {
   ShadowMethod method;
   const char* name;
 };
 constexpr MethodName kMethodNames[] = {{ShadowMethod::Rtsdf, "rtsdf"},
+                                       {ShadowMethod::RtsdfWorld, "rtsdf_world"},
                                        {ShadowMethod::RtOnly, "rt_only"},
                                        {ShadowMethod::JfaOnly, "jfa_only"},
                                        {ShadowMethod::CsmEvsm, "csm_evsm"}};
 
-bool uses_fine_sdf(ShadowMethod method) { return method == ShadowMethod::Rtsdf || method == ShadowMethod::RtOnly; }
+// The whole scene's fine SDF (world space).
+bool uses_fine_sdf(ShadowMethod method) { return method == ShadowMethod::RtsdfWorld || method == ShadowMethod::RtOnly; }
+
+ObjectFieldSettings object_field_settings(const RenderSettings& settings, const FineTraceSettings& fine) {
+  ObjectFieldSettings objects;
+  objects.coarse_resolution = settings.coarse_resolution;
+  objects.fine_resolution = settings.fine_resolution;
+  objects.beta = settings.beta;
+  objects.fine = fine;
+  objects.updates = settings.sdf_updates;
+  objects.keep_history = settings.keep_history;
+  objects.grid_slack = settings.grid_slack;
+  objects.budget_mb = settings.field_budget_mb;
+  return objects;
+}
 
 }  // namespace
 
@@ -75,7 +79,13 @@ const char* shadow_method_name(ShadowMethod method) {
 }
 
 Renderer::Renderer(const vk::Context& context)
-    : context_(context), coarse_(context), fine_(context), gbuffer_(context), shade_(context) {}
+    : context_(context),
+      coarse_(context),
+      fine_(context),
+      gbuffer_(context),
+      shade_(context),
+      object_fields_(context),
+      march_(context) {}
 
 void Renderer::validate(int width, int height, const RenderSettings& settings) const {
   if (width < 1 || height < 1 || width > 16384 || height > 16384)
@@ -87,6 +97,22 @@ void Renderer::validate(int width, int height, const RenderSettings& settings) c
   if (!(settings.shadow_epsilon > 0.0f) || !(settings.max_step > 0.0f))
     throw Error("shadow_epsilon and max_step must be positive");
   if (settings.shadow_map_size < 16 || settings.shadow_map_size > 8192) throw Error("shadow_map_size must be 16 to 8192");
+  if (!(settings.field_budget_mb >= 1.0 && settings.field_budget_mb <= 1e7))
+    throw Error("field_budget_mb must be 1 to 10^7 MiB");
+}
+
+void Renderer::place_world_field(const GridSpec& grid) {
+  march_.set_layout({grid}, {scene_->bounds()});
+  march_.place({{0, glm::mat4(1.0f)}});
+  field_voxels_.assign(scene_->instances().size(), 0.0f);
+  for (uint32_t i : scene_->shadow_casters()) field_voxels_[i] = grid.voxel_size;
+}
+
+void Renderer::copy_world_field(const vk::Image& distance) {
+  context_.submit_and_wait([&](VkCommandBuffer cmd) {
+    march_.record_copy(cmd, 0, distance);
+    MarchFields::record_copies_done(cmd);
+  });
 }
 
 FineTraceSettings Renderer::fine_settings() const {
@@ -101,35 +127,53 @@ void Renderer::rebuild_sdfs(GpuScene& scene, const RenderSettings& settings) {
   fine_updates_ = 0;
   const GpuScene::Changes changes = scene.take_changes();
   changed_region_.reset();
-  // csm_evsm needs no SDF; jfa_only only the coarse one.
-  if (has_casters_ && settings.shadow_method != ShadowMethod::CsmEvsm) {
-    const Bounds bounds = scene.bounds();
-    const GridSpec tight = fit_grid(bounds, settings.coarse_resolution);
-    // A grid is kept only for history (viewport, persistent data): a final
-    // render's grid must not depend on what was rendered before.
-    if (!(had_casters && settings.keep_history && settings.coarse_resolution == settings_.coarse_resolution &&
-          grid_still_fits(coarse_grid_, bounds, tight, settings.grid_slack))) {
-      const glm::vec3 slack = 0.5f * settings.grid_slack * bounds.extent();
-      coarse_grid_ = settings.grid_slack > 0.0f ? fit_grid(Bounds{bounds.lo - slack, bounds.hi + slack},
-                                                           settings.coarse_resolution)
-                                                : tight;
-    }
-    coarse_.build(scene, coarse_grid_, settings.beta);
-    if (uses_fine_sdf(settings.shadow_method)) {
-      fine_grid_ = FineSdf::fit(coarse_grid_, settings.fine_resolution);
-      // (a new grid resets it anyway; another method's field is not history)
-      if (!settings.keep_history || settings.shadow_method != settings_.shadow_method) fine_.reset();
-      // Kept history: the next update retraces only near what moved or
-      // deformed (nothing, if no caster did), the rest is still converged.
-      else if (!changes.everything) changed_region_ = changes.any ? changes.region : Bounds::empty();
-    }
+  stats_ = {};
+  scene_ = &scene;
+  field_voxels_.assign(scene.instances().size(), 0.0f);
+  const ShadowMethod method = settings.shadow_method;
+  if (!has_casters_ || method == ShadowMethod::CsmEvsm) {
+    // Nothing to march (csm_evsm needs no SDF): its casters are still told
+    // apart from receivers (they look themselves up off their surface).
+    march_.set_layout({}, {});
+    march_.place({});
+    if (method == ShadowMethod::CsmEvsm)
+      for (uint32_t i : scene.shadow_casters()) field_voxels_[i] = 1.0f;
+    return;
   }
-  if (!no_casters_field_) {
-    // Bound where no field is marched (nothing casts shadows, or csm_evsm): two
-    // texels (a depth of one would make a 2D image, which an image3D cannot bind).
-    no_casters_field_ = std::make_unique<vk::Image>(context_, glm::ivec3(1, 1, 2), VK_FORMAT_R32_SFLOAT,
-                                                    VK_IMAGE_USAGE_STORAGE_BIT);
-    vk::make_general(context_, {no_casters_field_.get()});
+  if (method == ShadowMethod::Rtsdf) {
+    FineTraceSettings fine = settings.fine;
+    object_fields_.sync(scene, object_field_settings(settings, fine), march_);
+    field_voxels_ = object_fields_.instance_voxels();
+    const ObjectFieldStats& objects = object_fields_.stats();
+    stats_.fields = objects.fields;
+    stats_.field_instances = objects.placed;
+    stats_.fields_regenerated = objects.regenerated;
+    stats_.field_mb = double(objects.bytes) / (1 << 20);
+    stats_.resolution_scale = objects.resolution_scale;
+    stats_.skipped_degenerate = objects.skipped_degenerate;
+    return;
+  }
+  // The whole scene's field, in world space.
+  // A grid is kept only for history (viewport, persistent data): a final
+  // render's grid must not depend on what was rendered before.
+  const bool may_keep = had_casters && settings.keep_history && settings.coarse_resolution == settings_.coarse_resolution;
+  coarse_grid_ = keep_or_fit_grid(may_keep ? &coarse_grid_ : nullptr, scene.bounds(), settings.coarse_resolution,
+                                  settings.grid_slack);
+  coarse_.build(scene, coarse_grid_, settings.beta);
+  stats_.fields = stats_.field_instances = stats_.fields_regenerated = 1;
+  if (uses_fine_sdf(method)) {
+    fine_grid_ = FineSdf::fit(coarse_grid_, settings.fine_resolution);
+    // (a new grid resets it anyway; another method's field is not history)
+    if (!settings.keep_history || method != settings_.shadow_method) fine_.reset();
+    // Kept history: the next update retraces only near what moved or
+    // deformed (nothing, if no caster did), the rest is still converged.
+    else if (!changes.everything) changed_region_ = changes.any ? changes.region : Bounds::empty();
+    place_world_field(fine_grid_);
+    stats_.field_mb = double(coarse_.bytes() + fine_grid_.voxel_count() * (FineSdf::kBytesPerTexel + 4)) / (1 << 20);
+  } else {
+    place_world_field(coarse_grid_);
+    copy_world_field(coarse_.distance());
+    stats_.field_mb = double(coarse_.bytes() + coarse_grid_.voxel_count() * 4) / (1 << 20);
   }
 }
 
@@ -153,8 +197,11 @@ void Renderer::begin(GpuScene& scene, const Camera& camera, const std::vector<Li
   if (scene_changed || scene_ != &scene || scene.shadow_casters() != casters_before ||
       settings.coarse_resolution != settings_.coarse_resolution ||
       settings.fine_resolution != settings_.fine_resolution || settings.beta != settings_.beta ||
-      settings.shadow_method != settings_.shadow_method || frame_ == 0)
+      settings.shadow_method != settings_.shadow_method || settings.field_budget_mb != settings_.field_budget_mb ||
+      frame_ == 0)
     rebuild_sdfs(scene, settings);  // (otherwise the SDFs, independent of the view, stay as they are)
+  else
+    stats_.fields_regenerated = 0, stats_.traced_texels = stats_.last_frame_traced_texels = 0;
   scene_ = &scene;
   settings_ = settings;
   timings_.coarse_ms = ms_since(start);
@@ -187,30 +234,30 @@ void Renderer::begin(GpuScene& scene, const Camera& camera, const std::vector<Li
   }
   world_to_clip_ = kGlToVulkan * camera.projection * camera.world_to_view;
 
-  // Visibility: which field the march reads (and its grid), or the shadow maps.
+  // Visibility: the fields the march reads, or the shadow maps. Distances
+  // along the march are in voxels of the field nearest each sample.
   push_ = {};
-  const GridSpec& field = settings.shadow_method == ShadowMethod::JfaOnly ? coarse_grid_ : fine_grid_;
-  push_.field_grid = glm::vec4(field.origin, field.voxel_size);
-  push_.field_dims = glm::ivec4(field.dims, has_casters_ ? settings.shadow_max_steps : 0);
-  push_.march = glm::vec4(settings.shadow_epsilon * field.voxel_size, settings.max_step * field.voxel_size,
-                          1.0f * field.voxel_size, 0.0f);
-  push_.surface = glm::vec4(0.25f * field.voxel_size, 0.0f, 0.0f, 0.0f);
+  push_.visibility = glm::uvec4(gpu::kVisibilitySignedSdf, 0u, march_.instance_count(), uint32_t(settings.shadow_max_steps));
+  push_.march = glm::vec4(settings.shadow_epsilon, settings.max_step, 1.0f, 0.0f);
+  push_.field_reach = glm::vec4(settings.max_step * march_.largest_voxel(), 0.0f, 0.0f, 0.0f);
+  push_.surface = glm::vec4(0.25f, 0.0f, 0.0f, 0.0f);
   switch (settings.shadow_method) {
     case ShadowMethod::Rtsdf:
+    case ShadowMethod::RtsdfWorld:
     case ShadowMethod::RtOnly:
-      push_.visibility.x = gpu::kVisibilitySignedSdf;
       break;
     case ShadowMethod::JfaOnly:
       // The unsigned field's surfaces are shells epsilon + beta thick: a
       // caster's march starts outside its own shell (with a voxel to spare
       // for the flood's quantization), or its lit side would shadow itself.
       push_.visibility.x = gpu::kVisibilityUnsignedSdf;
-      push_.surface.x = (settings.shadow_epsilon + settings.beta + 1.0f) * field.voxel_size;
+      push_.surface.x = settings.shadow_epsilon + settings.beta + 1.0f;
       break;
     case ShadowMethod::CsmEvsm:
       if (!shadow_maps_) shadow_maps_ = std::make_unique<ShadowMapPass>(context_);
       shadow_maps_->setup(scene, lights, camera.world_to_view, camera.projection, settings.shadow_map_size);
-      push_.visibility = glm::uvec4(gpu::kVisibilityShadowMaps, uint32_t(shadow_maps_->tile_size()), 0u, 0u);
+      push_.visibility.x = gpu::kVisibilityShadowMaps;
+      push_.visibility.y = uint32_t(shadow_maps_->tile_size());
       push_.surface = glm::vec4(0.0f, 1.0f, 0.0f, 0.0f);  // a texel off their own depth in the maps
       push_.evsm = glm::vec4(ShadowMapPass::kPositiveExponent, ShadowMapPass::kNegativeExponent,
                              ShadowMapPass::kLightBleedingReduction, 0.0f);
@@ -226,11 +273,19 @@ void Renderer::add_frame() {
   const Clock::time_point start = Clock::now();
   // The visibility's per-frame work, in the first sdf_updates frames (0: every frame).
   auto due = [&](int done) { return has_casters_ && (settings_.sdf_updates == 0 || done < settings_.sdf_updates); };
+  stats_.last_frame_traced_texels = 0;
   if (uses_fine_sdf(settings_.shadow_method) && due(fine_updates_)) {
     fine_.update(*scene_, coarse_, fine_grid_, fine_settings(), changed_region_ ? &*changed_region_ : nullptr);
+    copy_world_field(fine_.distance());
     changed_region_.reset();  // later updates go on converging everywhere
     fine_updates_++;
+    stats_.last_frame_traced_texels = fine_.read_traced_texels();
+  } else if (settings_.shadow_method == ShadowMethod::Rtsdf && has_casters_) {
+    // Each field refines in its own first updates; still fields cost nothing.
+    object_fields_.refine(*scene_, march_);
+    stats_.last_frame_traced_texels = object_fields_.stats().traced_texels;
   }
+  stats_.traced_texels += stats_.last_frame_traced_texels;
   timings_.fine_ms += ms_since(start);
   const Clock::time_point maps = Clock::now();
   if (settings_.shadow_method == ShadowMethod::CsmEvsm && due(shadow_map_renders_)) {
@@ -248,14 +303,10 @@ void Renderer::add_frame() {
   std::memcpy(frame_buffer_.mapped(), &frame_data_, sizeof frame_data_);
   push_.image = glm::ivec4(width_, height_, light_count_, frame_);
   push_.march.w = 1.0f / float(frame_ + 1);
-  const vk::Image& field = !has_casters_ ? *no_casters_field_
-                           : uses_fine_sdf(settings_.shadow_method) ? fine_.distance()
-                           : settings_.shadow_method == ShadowMethod::JfaOnly ? coarse_.distance()
-                                                                              : *no_casters_field_;
   const ShadowMapPass* shadow_maps = settings_.shadow_method == ShadowMethod::CsmEvsm ? shadow_maps_.get() : nullptr;
   context_.submit_and_wait([&](VkCommandBuffer cmd) {
-    gbuffer_.record(cmd, *scene_, frame_buffer_);
-    shade_.record(cmd, gbuffer_, field, shadow_maps, light_buffer_, frame_buffer_, accum_color_, accum_passes_, push_);
+    gbuffer_.record(cmd, *scene_, frame_buffer_, field_voxels_);
+    shade_.record(cmd, gbuffer_, march_, shadow_maps, light_buffer_, frame_buffer_, accum_color_, accum_passes_, push_);
   });
   timings_.shade_ms += ms_since(shading);
   timings_.total_ms += ms_since(start);
@@ -267,6 +318,7 @@ RenderOutput Renderer::read(bool passes) const {
   out.width = width_;
   out.height = height_;
   out.timings = timings_;
+  out.stats = stats_;
   out.samples_done = frame_;
   if (!accum_color_.handle()) return out;
   out.combined = read_plane<float>(context_, accum_color_, 4);

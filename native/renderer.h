@@ -11,6 +11,8 @@
 #include "coarse_sdf.h"
 #include "fine_sdf.h"
 #include "lights.h"
+#include "march_fields.h"
+#include "object_fields.h"
 #include "passes/gbuffer.h"
 #include "passes/shade.h"
 #include "passes/shadow_map.h"
@@ -33,11 +35,13 @@ inline FineTraceSettings shading_fine_settings() {
   return settings;
 }
 
-// Where shadows come from. Settings and Python name them rtsdf, rt_only,
-// jfa_only and csm_evsm.
+// Where shadows come from. Settings and Python name them rtsdf, rtsdf_world,
+// rt_only, jfa_only and csm_evsm.
 enum class ShadowMethod {
-  Rtsdf,    // the paper: coarse SDF by jump flooding, fine SDF ray traced in a band around surfaces
-  RtOnly,   // the fine SDF ray traced at every texel of its grid (no band), every frame
+  Rtsdf,       // the paper's fields (coarse by jump flooding, fine ray traced in a band around surfaces), one per
+               // mesh in its own space, shared by its instances (object_fields.h)
+  RtsdfWorld,  // the paper as published: one field of the whole scene in world space, rebuilt after any change
+  RtOnly,   // the whole scene's fine SDF ray traced at every texel of its grid (no band), every frame
   JfaOnly,  // no fine SDF: the march reads the coarse (jump-flooded, unsigned) SDF
   CsmEvsm,  // no SDF: cascaded shadow maps filtered as EVSM (the paper's comparison)
 };
@@ -68,6 +72,21 @@ struct RenderSettings {
   // Keep the fine SDF of the previous render (same grid) and go on accumulating
   // it, as the paper does frame to frame; the decay forgets what moved.
   bool keep_history = false;
+  // rtsdf: device memory for all meshes' fields, in MiB (resolutions are
+  // lowered alike to fit it).
+  double field_budget_mb = 1024.0;
+};
+
+// What the SDF methods did, for the stats a user sees.
+struct RenderStats {
+  int fields = 0;               // distance fields held (rtsdf: one per mesh that casts shadows)
+  int field_instances = 0;      // placed in the scene (rtsdf: instances share their mesh's field)
+  int fields_regenerated = 0;   // fields (re)built by begin(): voxelized and jump flooded
+  uint64_t traced_texels = 0;   // fine texels ray traced since begin()
+  uint64_t last_frame_traced_texels = 0;
+  double field_mb = 0.0;        // device memory of the fields
+  float resolution_scale = 1;   // rtsdf: below 1, resolutions lowered to fit field_budget_mb
+  int skipped_degenerate = 0;   // rtsdf: instances a scale flattens to nothing, left out of the fields
 };
 
 struct RenderTimings {
@@ -84,6 +103,7 @@ struct RenderOutput {
   std::vector<float> depth;     // distance along the view axis; 1e10 where nothing is hit
   std::vector<float> shadow;    // direct light with shadows / without (1 where unlit or empty)
   RenderTimings timings;
+  RenderStats stats;
   int samples_done = 0;  // fewer than asked when stopped through Progress
 };
 
@@ -112,16 +132,23 @@ class Renderer {
   int frames() const { return frame_; }
   // Wall times since begin().
   const RenderTimings& timings() const { return timings_; }
+  const RenderStats& stats() const { return stats_; }
   // The accumulated image so far; the depth and shadow passes only if asked.
   RenderOutput read(bool passes = true) const;
-  // The fine SDF as the last frame left it (its grid is empty before the first update).
+  // The whole scene's fine SDF as the last frame left it (rtsdf_world,
+  // rt_only; its grid is empty before the first update).
   const FineSdf& fine_sdf() const { return fine_; }
+  // rtsdf: a mesh's own fine SDF (in its object space), null if it has none yet.
+  const FineSdf* mesh_fine_sdf(uint32_t mesh) const { return object_fields_.fine_field(mesh); }
   // csm_evsm's shadow maps as begin() fitted them (null before its first use).
   const ShadowMapPass* shadow_maps() const { return shadow_maps_.get(); }
 
  private:
   void validate(int width, int height, const RenderSettings& settings) const;
   void rebuild_sdfs(GpuScene& scene, const RenderSettings& settings);
+  // Places the whole scene's field (world space) as the one field marched.
+  void place_world_field(const GridSpec& grid);
+  void copy_world_field(const vk::Image& distance);
   FineTraceSettings fine_settings() const;
 
   const vk::Context& context_;
@@ -130,7 +157,9 @@ class Renderer {
   GBufferPass gbuffer_;
   ShadePass shade_;
   std::unique_ptr<ShadowMapPass> shadow_maps_;  // made on first use of csm_evsm
-  std::unique_ptr<vk::Image> no_casters_field_;
+  ObjectFields object_fields_;
+  MarchFields march_;                  // the fields the shading marches
+  std::vector<float> field_voxels_;    // per instance: its field's world voxel (0: in none)
 
   // The accumulation begin() set up.
   GpuScene* scene_ = nullptr;
@@ -143,6 +172,7 @@ class Renderer {
   std::optional<Bounds> changed_region_;  // for the first fine update after a local change
   int shadow_map_renders_ = 0;  // since begin() (the maps follow the camera)
   RenderTimings timings_;
+  RenderStats stats_;
   gpu::FrameData frame_data_{};
   gpu::ShadePush push_{};
   glm::mat4 world_to_clip_{1.0f};

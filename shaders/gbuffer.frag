@@ -2,7 +2,7 @@
 #extension GL_GOOGLE_include_directive : require
 // G-buffer, fragment stage: world position (w = 1 where covered), shading
 // normal (interpolated for smooth meshes, else the face's), base colour with
-// a = whether the surface is in the SDF (a shadow caster).
+// a = the world voxel size of the field holding the surface (0: in none).
 #include "shared.h"
 
 layout(push_constant) uniform Push { GBufferPush pc; };
@@ -17,5 +17,5 @@ void main() {
   out_position = vec4(v_world, 1.0);
   float smooth_length = length(v_smooth_normal);
   out_normal = vec4(smooth_length > 1e-6 ? v_smooth_normal / smooth_length : v_face_normal, 0.0);
-  out_albedo = vec4(pc.base_color.rgb, float(pc.in_sdf));
+  out_albedo = vec4(pc.base_color.rgb, pc.field_voxel);
 }

@@ -7,13 +7,13 @@ layout(std430, binding = 3) readonly buffer Triangles { vec4 triangle_corners[];
 
 #define RTSDF_STACK 48
 
+#include "ray_box.glsl.h"
+
 // Entry distance of the ray into the box, or a value beyond t_max if it misses.
 float box_entry(vec3 origin, vec3 inv_dir, vec4 lo, vec4 hi, float t_max) {
-  vec3 t0 = (lo.xyz - origin) * inv_dir, t1 = (hi.xyz - origin) * inv_dir;
-  vec3 near = min(t0, t1), far = max(t0, t1);
-  float enter = max(max(near.x, near.y), max(near.z, 0.0));
-  float leave = min(min(far.x, far.y), min(far.z, t_max));
-  return enter <= leave ? enter : 3.0e38;
+  vec2 span = ray_box_span(origin, inv_dir, lo.xyz, hi.xyz);
+  float enter = max(span.x, 0.0);
+  return enter <= min(span.y, t_max) ? enter : 3.0e38;
 }
 
 void trace_mesh(uint root, vec3 origin, vec3 dir, bool mirrored, inout float best_t, inout bool front,

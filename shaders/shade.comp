@@ -7,8 +7,10 @@
 // capped at max_step) with the cone penumbra, improved by Aaltonen's
 // triangulation between consecutive samples (Claybook, GDC 2018): the signed
 // fine SDF, or for the jfa_only baseline the unsigned coarse one, bound to
-// the same binding with its own grid; or, for the csm_evsm baseline, looks
-// up EVSM shadow maps. Only visibility differs between the methods.
+// the same bindings; or, for the csm_evsm baseline, looks up EVSM shadow
+// maps. Only visibility differs between the methods. The fields
+// (sdf_fields.glsl.h) are many in the object-space design, one per placed
+// mesh, and one for the whole-scene methods.
 #include "shared.h"
 #include "evsm.glsl.h"
 
@@ -16,7 +18,6 @@ layout(local_size_x = 8, local_size_y = 8) in;
 layout(binding = 0, rgba32f) uniform readonly image2D g_position;
 layout(binding = 1, rgba32f) uniform readonly image2D g_normal;
 layout(binding = 2, rgba32f) uniform readonly image2D g_albedo;
-layout(binding = 3, r32f) uniform readonly image3D field;  // the SDF marched (pc.field_grid, pc.field_dims)
 layout(std430, binding = 4) readonly buffer Lights { GpuLight lights[]; };
 layout(std430, binding = 5) readonly buffer Frame { FrameData frame; };
 layout(binding = 6, rgba32f) uniform image2D accum_color;   // rgb = Combined, a = coverage
@@ -25,30 +26,7 @@ layout(binding = 8, rgba32f) uniform readonly image2D shadow_atlas;  // EVSM mom
 layout(std430, binding = 9) readonly buffer ShadowTiles { ShadowTile shadow_tiles[]; };
 layout(std430, binding = 10) readonly buffer ShadowLights { ShadowLightTiles shadow_lights[]; };
 layout(push_constant) uniform Push { ShadePush pc; };
-
-// The part [t0, t1] of the ray inside the field's box, which holds every
-// shadow caster (t0 > t1: it misses the box).
-vec2 grid_span(vec3 origin, vec3 dir) {
-  vec3 lo = pc.field_grid.xyz, hi = lo + vec3(pc.field_dims.xyz) * pc.field_grid.w;
-  vec3 inv = 1.0 / mix(dir, vec3(1e-20), equal(dir, vec3(0.0)));
-  vec3 a = (lo - origin) * inv, b = (hi - origin) * inv;
-  vec3 near = min(a, b), far = max(a, b);
-  return vec2(max(near.x, max(near.y, near.z)), min(far.x, min(far.y, far.z)));
-}
-
-// Trilinear sample of the field (inside the grid).
-float sdf(vec3 world) {
-  vec3 q = (world - pc.field_grid.xyz) / pc.field_grid.w - 0.5;
-  ivec3 hi = pc.field_dims.xyz - 1;
-  vec3 base = floor(q);
-  vec3 f = clamp(q - base, 0.0, 1.0);
-  ivec3 i0 = clamp(ivec3(base), ivec3(0), hi), i1 = clamp(ivec3(base) + 1, ivec3(0), hi);
-  float c00 = mix(imageLoad(field, ivec3(i0.x, i0.y, i0.z)).x, imageLoad(field, ivec3(i1.x, i0.y, i0.z)).x, f.x);
-  float c10 = mix(imageLoad(field, ivec3(i0.x, i1.y, i0.z)).x, imageLoad(field, ivec3(i1.x, i1.y, i0.z)).x, f.x);
-  float c01 = mix(imageLoad(field, ivec3(i0.x, i0.y, i1.z)).x, imageLoad(field, ivec3(i1.x, i0.y, i1.z)).x, f.x);
-  float c11 = mix(imageLoad(field, ivec3(i0.x, i1.y, i1.z)).x, imageLoad(field, ivec3(i1.x, i1.y, i1.z)).x, f.x);
-  return mix(mix(c00, c10, f.y), mix(c01, c11, f.y), f.z);
-}
+#include "sdf_fields.glsl.h"  // bindings 3, 11, 12: the fields marched
 
 float hash(uvec3 v) {
   v = v * 1664525u + 1013904223u;
@@ -83,6 +61,12 @@ float disk_visible(float r) {
 // outside: a sample within epsilon of its surfaces blocks the ray (the
 // paper's stop), and only clearances above that shell shape the penumbra,
 // whose inner half therefore collapses onto the shell.
+// Epsilon and the step cap are in voxels of the field nearest each sample
+// (fields differ in resolution). Only fields whose box, grown by the longest
+// step, the ray passes are read: the march goes in segments, each with the
+// fields near it (gather_fields); a segment near too many is halved, one
+// near none is skipped. Outside every box (clear of all surfaces by a margin)
+// it steps on without narrowing the cone, as a march clipped to one grid does.
 // escape: how far along the ray negative samples are skipped until the first
 // non-negative one: a receiver that is itself in the SDF may start inside its
 // own shell (thin pieces read as slabs a voxel thick on either side).
@@ -95,24 +79,57 @@ float disk_visible(float r) {
 // than the cone is wide) about half the sky shone in.
 float visibility(vec3 origin, vec3 dir, float t_min, float t_max, float tan_radius, float jitter, float escape,
                  vec3 own_normal, bool axis_blocks) {
-  float epsilon = pc.march.x, max_step = pc.march.y;
-  // Only the part inside the grid can meet a caster: surfaces outside it (a
-  // ground the grid was not fitted to) march from where their ray enters it.
-  vec2 span = grid_span(origin, dir);
+  if (pc.visibility.z == 0u) return 1.0;
+  vec3 inv_dir = safe_inverse(dir);
+  // Only inside a field's box is a clearance known (field_distance): clip to
+  // the box of all fields.
+  BvhNode root = field_nodes[0];
+  vec2 span = ray_box_span(origin, inv_dir, root.lo.xyz, root.hi.xyz);
   t_min = max(t_min, span.x);
   t_max = min(t_max, span.y);
   if (t_min >= t_max) return 1.0;
-  // Jittered by up to one epsilon along the light each frame: with the sample
-  // positions moving, step patterns (banding) average out over accumulation.
-  const float t_start = t_min + jitter * epsilon;
-  float t = t_start;
+  const bool unsigned_field = pc.visibility.x == kVisibilityUnsignedSdf;
+  float t = t_min, t_start = t_min;
   float ratio = 1.0;  // smallest clearance / cone radius seen
   float previous_h = 0.0, step = 0.0;
-  bool deep_inside = false, have_previous = false;
-  const bool unsigned_field = pc.visibility.x == kVisibilityUnsignedSdf;
+  bool deep_inside = false, have_previous = false, jittered = false;
   bool escaping = escape > 0.0 && !unsigned_field;
-  for (int i = 0; i < pc.field_dims.w && t < t_max; ++i) {
-    float h = sdf(origin + dir * t);
+  float segment_end = t;  // the fields near [t, segment_end] are gathered
+  int nearby = 0;
+  for (int i = 0; i < int(pc.visibility.w) && t < t_max; ++i) {
+    if (t >= segment_end) {
+      segment_end = t_max;
+      for (int halvings = 0; halvings < 8; ++halvings) {
+        nearby = gather_fields(origin, inv_dir, t, segment_end, pc.field_reach.x);
+        if (nearby >= 0 || segment_end - t < pc.field_reach.x) break;
+        segment_end = t + 0.5 * (segment_end - t);
+      }
+      if (nearby < 0) nearby = RTSDF_MAX_NEARBY_FIELDS;  // (too many even close by: the first that fit)
+      if (nearby == 0) {
+        // No field's box within a step: nothing there to meet or to narrow the cone.
+        t = segment_end;
+        have_previous = false;
+        continue;
+      }
+    }
+    vec3 sample_ = nearby_distance(origin + dir * t, nearby);
+    float h = sample_.y, voxel = sample_.z;
+    float epsilon = pc.march.x * voxel, max_step = pc.march.y * voxel;
+    if (!jittered) {
+      // Jittered by up to one epsilon along the light each frame: with the sample
+      // positions moving, step patterns (banding) average out over accumulation.
+      jittered = true;
+      t_start = t + jitter * epsilon;
+      t = t_start;
+      continue;
+    }
+    if (h >= kFarAway) {
+      // Outside every field's box: clear of every surface by at least a
+      // margin; step on by the bound.
+      have_previous = false;
+      t += clamp(sample_.x, 0.5 * epsilon, max_step);
+      continue;
+    }
     if (escaping) {
       if (h < 0.0 && t < t_start + escape) {
         t += 0.5 * epsilon;
@@ -125,7 +142,7 @@ float visibility(vec3 origin, vec3 dir, float t_min, float t_max, float tan_radi
       h -= epsilon;
     } else if (h < 0.0) {
       deep_inside = false;
-    } else if (deep_inside || (have_previous && previous_h < 0.0 && h - previous_h > step + pc.field_grid.w)) {
+    } else if (deep_inside || (have_previous && previous_h < 0.0 && h - previous_h > step + voxel)) {
       deep_inside = true, h = -h;
     }
     if (h < 0.0 && axis_blocks) return 0.0;
@@ -175,7 +192,9 @@ bool enters_sky_blocker(vec3 p, vec3 dir) {
   return false;
 }
 
-float sky_visibility(vec3 origin, vec3 n, bool in_sdf, float jitter, ivec2 pixel) {
+// receiver_voxel: the world voxel of the field holding the receiver (0: in none).
+float sky_visibility(vec3 origin, vec3 n, float receiver_voxel, float jitter, ivec2 pixel) {
+  bool in_sdf = receiver_voxel > 0.0;
   vec3 t = normalize(abs(n.z) < 0.9 ? cross(n, vec3(0.0, 0.0, 1.0)) : cross(n, vec3(1.0, 0.0, 0.0)));
   vec3 b = cross(n, t);
   float sum = 0.0;
@@ -185,7 +204,7 @@ float sky_visibility(vec3 origin, vec3 n, bool in_sdf, float jitter, ivec2 pixel
     float r = sqrt(u1), phi = 6.2831853 * u2;
     vec3 dir = normalize(t * (r * cos(phi)) + b * (r * sin(phi)) + n * sqrt(max(1.0 - u1, 0.0)));
     if (enters_sky_blocker(origin, dir)) continue;
-    sum += visibility(origin, dir, in_sdf ? pc.march.z : 0.0, 1e10, 0.35, jitter, in_sdf ? 2.0 * pc.field_grid.w : 0.0,
+    sum += visibility(origin, dir, pc.march.z * receiver_voxel, 1e10, 0.35, jitter, 2.0 * receiver_voxel,
                       in_sdf ? n : vec3(0.0), true);
   }
   return 0.5 * sum;
@@ -253,23 +272,24 @@ void main() {
     vec3 n = imageLoad(g_normal, pixel).xyz;
     vec3 to_camera = frame.camera_position.w > 0.5 ? -frame.camera_forward.xyz : frame.camera_position.xyz - p;
     if (dot(n, to_camera) < 0.0) n = -n;  // shade the side the camera sees
-    vec4 albedo_in_sdf = imageLoad(g_albedo, pixel);
-    vec3 albedo = albedo_in_sdf.rgb;
-    bool in_sdf = albedo_in_sdf.a > 0.5;
+    vec4 albedo_voxel = imageLoad(g_albedo, pixel);
+    vec3 albedo = albedo_voxel.rgb;
+    float receiver_voxel = albedo_voxel.a;  // of the field holding this surface (0: in none)
+    bool in_sdf = receiver_voxel > 0.0;
     depth = dot(p - frame.camera_position.xyz, frame.camera_forward.xyz);
     float lit = 0.0, unshadowed = 0.0;
     float jitter = hash(uvec3(pixel, uint(pc.image.w)));
     // The march follows the ray from the shading point itself (an offset along
     // the normal would move every shadow edge inward by offset * tan(angle)).
-    // On a surface that is in the SDF it starts pc.march.z along the ray, so
+    // On a surface that is in the SDF it starts pc.march.z voxels along the ray, so
     // the receiver does not shadow itself; a surface left out of the SDF (a
     // ground that cannot shadow anything) starts at once, so contact shadows
-    // reach the objects resting on it. A nudge along the normal (pc.surface.x:
-    // a quarter voxel of the fine SDF, more for the thick shell of the
+    // reach the objects resting on it. A nudge along the normal (pc.surface.x
+    // voxels: a quarter of a fine SDF's, more for the thick shell of the
     // unsigned coarse one) keeps a caster's march off its own surface.
-    vec3 origin = in_sdf ? p + n * pc.surface.x : p;
+    vec3 origin = p + n * (pc.surface.x * receiver_voxel);
     float sky = pc.visibility.x == kVisibilityShadowMaps || dot(frame.ambient.rgb, frame.ambient.rgb) <= 0.0
-                    ? 1.0 : sky_visibility(origin, n, in_sdf, jitter, pixel);
+                    ? 1.0 : sky_visibility(origin, n, receiver_voxel, jitter, pixel);
     color = albedo * frame.ambient.rgb * sky;
     for (int l = 0; l < pc.image.z; ++l) {
       GpuLight light = lights[l];
@@ -300,10 +320,10 @@ void main() {
       }
       float cos_surface = dot(n, dir);
       if (cos_surface <= 0.0 || dot(irradiance, irradiance) <= 0.0) continue;
-      float t_min = in_sdf ? pc.march.z : 0.0;
+      float t_min = pc.march.z * receiver_voxel;
       float v = pc.visibility.x == kVisibilityShadowMaps ? shadow_map_visibility(l, p, n, in_sdf)
                                                          : visibility(origin, march_dir, t_min, t_max, tan_radius, jitter,
-                                                                      in_sdf ? 2.0 * pc.field_grid.w : 0.0, vec3(0.0), false);
+                                                                      2.0 * receiver_voxel, vec3(0.0), false);
       vec3 direct = irradiance * cos_surface;
       color += albedo * direct * v;
       float weight = dot(direct, vec3(0.2126, 0.7152, 0.0722));

@@ -114,23 +114,38 @@ struct GBufferPush {
   vec4 base_color;
   uint first_index;
   uint base_vertex;
-  uint in_sdf;  // 1: a shadow caster (in the SDF), 0: only a receiver
+  float field_voxel;  // world size of a voxel of the field holding this surface (0: only a receiver, in no field)
   uint pad1;
 };
 
 // What the shading's visibility reads (ShadePush::visibility.x).
-const uint kVisibilitySignedSdf = 0u;    // march a signed field: the fine SDF (rtsdf, rt_only)
+const uint kVisibilitySignedSdf = 0u;    // march signed fields: fine SDFs (rtsdf, rtsdf_world, rt_only)
 const uint kVisibilityUnsignedSdf = 1u;  // march an unsigned field: the coarse SDF (jfa_only)
 const uint kVisibilityShadowMaps = 2u;   // look up EVSM shadow maps (csm_evsm)
 
+// A distance field placed in the world, as the shadow march reads it
+// (shaders/sdf_fields.glsl.h). Its texels lie in the field pool, x fastest.
+// Distances are stored in the field's own units; a transform that scales
+// unevenly stretches them, so they are scaled by the smallest singular value
+// of the transform, which never overstates a distance.
+struct FieldInstance {
+  mat4 world_to_field;  // world -> the field's voxel space (voxel i spans [i, i+1))
+  vec4 scale;           // x = world units per field unit (at least), y = world units per voxel (at least),
+                        // z = world size of a voxel (at most: for clearances and step limits),
+                        // w = voxels between the box's faces and what the field holds (its margin, on every side)
+  uvec4 texels;         // x = the field's first texel in the pool, yzw = its dims
+};
+
 struct ShadePush {
-  ivec4 image;       // x, y = size in pixels, z = light count, w = accumulation frame
-  vec4 field_grid;   // the marched SDF's grid: xyz = origin, w = voxel size (world)
-  ivec4 field_dims;  // w = shadow_max_steps (0: nothing casts shadows)
-  vec4 march;        // x = shadow_epsilon, y = max_step, z = receiver clearance at the start (all world), w = weight of this frame
-  uvec4 visibility;  // x = kVisibility*, y = shadow-map tile size (texels)
-  vec4 surface;      // offsets along the normal of surfaces that cast shadows: x = the march's origin (world), y = the shadow-map lookup (texels)
-  vec4 evsm;         // x = positive exponent c+, y = negative exponent c-, z = light-bleeding reduction
+  ivec4 image;        // x, y = size in pixels, z = light count, w = accumulation frame
+  uvec4 visibility;   // x = kVisibility*, y = shadow-map tile size (texels), z = field instances (0: nothing
+                      // casts shadows), w = shadow_max_steps
+  vec4 march;         // in voxels of the field nearest each sample: x = shadow_epsilon, y = max_step;
+                      // z = the receiver's clearance at the start (voxels of its own field); w = weight of this frame
+  vec4 field_reach;   // x = the longest step the march can take anywhere (world): max_step voxels of the coarsest field
+  vec4 surface;       // x = a caster's march origin, off its surface along the normal (voxels of its field),
+                      // y = the shadow-map lookup's offset (texels)
+  vec4 evsm;          // x = positive exponent c+, y = negative exponent c-, z = light-bleeding reduction
 };
 
 // Shadow maps (csm_evsm). Every view (a sun's cascade, a spot light's view, a
@@ -170,7 +185,8 @@ static_assert(sizeof(BvhNode) == 48, "BvhNode layout");
 static_assert(sizeof(GpuLight) == 64, "GpuLight layout");
 static_assert(sizeof(FrameData) == 112 + 32 * kMaxSkyBlockers, "FrameData layout");
 static_assert(sizeof(GBufferPush) == 96, "GBufferPush layout");
-static_assert(sizeof(ShadePush) == 112, "ShadePush layout");
+static_assert(sizeof(ShadePush) == 96, "ShadePush layout");
+static_assert(sizeof(FieldInstance) == 96, "FieldInstance layout");
 static_assert(sizeof(ShadowTile) == 112, "ShadowTile layout");
 static_assert(sizeof(ShadowLightTiles) == 16, "ShadowLightTiles layout");
 static_assert(sizeof(ShadowMapPush) == 96, "ShadowMapPush layout");

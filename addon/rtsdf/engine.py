@@ -81,9 +81,12 @@ class RTSDFRenderEngine(bpy.types.RenderEngine):
         self.end_result(result)
         ms = out["ms"]
         self.update_stats("RTSDF", f"SDF {ms['sdf']:.0f} ms | fine {ms['fine']:.0f} ms | "
-                                   f"shading {ms['shade']:.0f} ms | total {ms['total']:.0f} ms")
+                                   f"shading {ms['shade']:.0f} ms | total {ms['total']:.0f} ms | "
+                                   f"{field_summary(out['stats'])}")
         print(f"RTSDF: frame {scene.frame_current} {width}x{height} in {ms['total']:.0f} ms "
-              f"(SDF {ms['sdf']:.0f}, fine {ms['fine']:.0f}, shading {ms['shade']:.0f}) on {session.device}")
+              f"(SDF {ms['sdf']:.0f}, fine {ms['fine']:.0f}, shading {ms['shade']:.0f}) on {session.device}; "
+              f"{field_summary(out['stats'])}")
+        warn_about_fields(self, out["stats"])
 
 
     # --- Viewport -----------------------------------------------------------
@@ -187,7 +190,25 @@ class RTSDFRenderEngine(bpy.types.RenderEngine):
         frame_ms = self.last_draw or ms
         state = "converged" if out["converged"] else f"frame {out['frames']}/{samples}"
         self.update_stats("", f"RTSDF {state} | SDF {frame_ms['sdf']:.0f} ms | fine {frame_ms['fine']:.0f} ms | "
-                              f"shading {frame_ms['shade']:.0f} ms")
+                              f"shading {frame_ms['shade']:.0f} ms | {field_summary(out['stats'], per_frame=True)}")
+
+
+def field_summary(stats, per_frame=False):
+    """The distance fields in a few words: how many (shared by how many
+    instances), their memory, and the work done (meshes rebuilt, texels traced)."""
+    traced = stats["last_frame_traced_texels"] if per_frame else stats["traced_texels"]
+    return (f"{stats['fields']} fields for {stats['field_instances']} instances, {stats['field_mb']:.0f} MB | "
+            f"{stats['fields_regenerated']} rebuilt, {traced:,} texels traced")
+
+
+def warn_about_fields(engine, stats):
+    """Reports what the fields left out or coarsened, once per render."""
+    if stats["resolution_scale"] < 1.0:
+        engine.report({"WARNING"}, f"RTSDF: field resolutions lowered to {stats['resolution_scale']:.0%} to fit "
+                                   "the field memory budget")
+    if stats["skipped_degenerate"]:
+        engine.report({"WARNING"}, f"RTSDF: {stats['skipped_degenerate']} instances scaled flat cast no shadow "
+                                   "(a zero scale leaves a field nothing to measure)")
 
 
 classes = (RTSDFRenderEngine,)

@@ -7,7 +7,11 @@ from bpy.props import EnumProperty, FloatProperty, IntProperty
 class RTSDFSettings(bpy.types.PropertyGroup):
     shadow_method: EnumProperty(
         name="Shadow Method", default="rtsdf",
-        items=(("rtsdf", "RTSDF", "Jump-flooded coarse SDF, ray-traced fine SDF near surfaces (the paper)"),
+        items=(("rtsdf", "RTSDF",
+                "The paper's fields (jump-flooded coarse SDF, ray-traced fine SDF near surfaces), one per mesh in its "
+                "own space and shared by its instances: moving objects cost no SDF work"),
+               ("rtsdf_world", "RTSDF (whole scene)",
+                "The paper as published: one field of the whole scene, rebuilt whenever anything moves"),
                ("rt_only", "RT only", "Baseline: the fine SDF ray traced at every texel of its grid, every frame"),
                ("jfa_only", "JFA only", "Baseline: shadows marched through the jump-flooded coarse SDF alone"),
                ("csm_evsm", "CSM + EVSM", "Baseline: cascaded shadow maps filtered as exponential variance shadow maps")),
@@ -17,10 +21,16 @@ class RTSDFSettings(bpy.types.PropertyGroup):
         description="CSM + EVSM: texels per side of each cascade (sun), spot light view or cube face")
     coarse_resolution: IntProperty(
         name="Coarse", default=64, min=8, max=512,
-        description="Voxels on the longest axis of the coarse (jump-flooded) SDF")
+        description="Voxels on the longest axis of the coarse (jump-flooded) SDF: of each mesh's own field (RTSDF), "
+                    "or of the whole scene's")
     fine_resolution: IntProperty(
         name="Fine", default=128, min=16, max=1024,
-        description="Voxels on the longest axis of the fine (ray-traced) SDF; at least the coarse resolution")
+        description="Voxels on the longest axis of the fine (ray-traced) SDF, of each mesh's own field (RTSDF) or of "
+                    "the whole scene's; at least the coarse resolution")
+    field_budget_mb: FloatProperty(
+        name="Field Memory (MB)", default=1024.0, min=16.0, max=65536.0,
+        description="RTSDF: device memory for all meshes' fields; when they need more, every mesh's resolution is "
+                    "lowered alike (reported in the stats)")
     beta: FloatProperty(
         name="Beta", default=0.5, min=0.0, max=4.0,
         description="Bias subtracted from the coarse distance, in coarse voxels: thickens surfaces")

@@ -26,7 +26,7 @@ class RTSDF_PT_settings(bpy.types.Panel):
         layout = self.layout
         layout.use_property_split = True
         settings = context.scene.rtsdf
-        sections = (("Resolution", ("coarse_resolution", "fine_resolution")),
+        sections = (("Resolution", ("coarse_resolution", "fine_resolution", "field_budget_mb")),
                     ("Fine SDF", ("beta", "trace_band", "decay", "rays_per_texel")),
                     ("Shadows", ("shadow_method", "shadow_epsilon", "shadow_max_steps", "max_step", "shadow_map_size")),
                     ("Render", ("samples", "sdf_updates")),

@@ -43,7 +43,7 @@ FineTracePass::FineTracePass(const vk::Context& context)
       trace_(context, RTSDF_SPIRV(spirv_fine_trace_comp),
              {kBuffer, kBuffer, kBuffer, kBuffer, kImage, kImage, kImage, kBuffer}, sizeof(gpu::FinePush)) {}
 
-void FineTracePass::record(VkCommandBuffer cmd, const GpuScene::RayStructures& scene, const GridSpec& coarse_grid,
+void FineTracePass::record(VkCommandBuffer cmd, const GpuScene::RayTargets& scene, const GridSpec& coarse_grid,
                            const vk::Image& coarse, const GridSpec& fine_grid, const vk::Image& fine,
                            const vk::Image& hit_counts, const vk::Buffer& trace_list, const vk::Buffer& dispatch,
                            const FineTraceSettings& settings, float beta_world, uint32_t frame, bool first_frame,

@@ -3,6 +3,7 @@
 #include "shaders/shared.h"
 #include "spirv/spirv_gbuffer_frag.h"
 #include "spirv/spirv_gbuffer_vert.h"
+#include "error.h"
 #include "vk/context.h"
 
 namespace rtsdf {
@@ -34,7 +35,9 @@ void GBufferPass::resize(int width, int height) {
   height_ = height;
 }
 
-void GBufferPass::record(VkCommandBuffer cmd, const GpuScene& scene, const vk::Buffer& frame) const {
+void GBufferPass::record(VkCommandBuffer cmd, const GpuScene& scene, const vk::Buffer& frame,
+                         const std::vector<float>& field_voxels) const {
+  if (field_voxels.size() != scene.instances().size()) throw Error("GBufferPass: one field voxel per instance");
   VkClearValue clears[4]{};
   clears[3].depthStencil = {1.0f, 0};
   VkRenderPassBeginInfo begin{VK_STRUCTURE_TYPE_RENDER_PASS_BEGIN_INFO};
@@ -52,8 +55,6 @@ void GBufferPass::record(VkCommandBuffer cmd, const GpuScene& scene, const vk::B
   pipeline_.push_descriptors(cmd, {vk::Resource::storage_buffer(scene.positions()),
                                    vk::Resource::storage_buffer(scene.indices()), vk::Resource::storage_buffer(frame),
                                    vk::Resource::storage_buffer(scene.normals())});
-  std::vector<uint8_t> in_sdf(scene.instances().size(), 0);
-  for (uint32_t i : scene.shadow_casters()) in_sdf[i] = 1;
   for (size_t i = 0; i < scene.instances().size(); ++i) {
     const Instance& instance = scene.instances()[i];
     const GpuMeshRange& mesh = scene.meshes()[instance.mesh];
@@ -63,7 +64,7 @@ void GBufferPass::record(VkCommandBuffer cmd, const GpuScene& scene, const vk::B
     push.base_color = glm::vec4(instance.base_color, 1.0f);
     push.first_index = mesh.first_index;
     push.base_vertex = mesh.base_vertex;
-    push.in_sdf = in_sdf[i];
+    push.field_voxel = field_voxels[i];
     pipeline_.push_constants(cmd, push);
     vkCmdDraw(cmd, 3 * mesh.triangle_count, 1, 0, 0);
   }

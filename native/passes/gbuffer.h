@@ -2,6 +2,7 @@
 // Pass 3a: the raster G-buffer from the camera: world position (w = covered),
 // face normal and base colour per pixel, for the shading pass to read.
 #include <memory>
+#include <vector>
 
 #include "gpu_scene.h"
 #include "vk/pipeline.h"
@@ -14,8 +15,11 @@ class GBufferPass {
   explicit GBufferPass(const vk::Context& context);
   // (Re)allocates the targets for a width x height image.
   void resize(int width, int height);
-  // `frame` holds one gpu::FrameData.
-  void record(VkCommandBuffer cmd, const GpuScene& scene, const vk::Buffer& frame) const;
+  // `frame` holds one gpu::FrameData; `field_voxels`, per instance, the
+  // world voxel size of the field holding it (0: in none), which the
+  // shading's receiver offsets are measured in.
+  void record(VkCommandBuffer cmd, const GpuScene& scene, const vk::Buffer& frame,
+              const std::vector<float>& field_voxels) const;
 
   const vk::Image& position() const { return position_; }
   const vk::Image& normal() const { return normal_; }

@@ -1,9 +1,10 @@
 #pragma once
 // Pass 3b: shading with soft shadows (see shaders/shade.comp), averaged into
-// the Combined and Depth/Shadow accumulation images. Visibility marches an
-// SDF (the fine one, or the coarse one for jfa_only: push.field_* describe
-// whichever is bound) or looks up the EVSM shadow maps of csm_evsm.
+// the Combined and Depth/Shadow accumulation images. Visibility marches the
+// distance fields in `fields` (fine SDFs, or the coarse one for jfa_only) or
+// looks up the EVSM shadow maps of csm_evsm.
 #include "grid.h"
+#include "march_fields.h"
 #include "passes/gbuffer.h"
 #include "passes/shadow_map.h"
 #include "shaders/shared.h"
@@ -17,7 +18,7 @@ class ShadePass {
   explicit ShadePass(const vk::Context& context);
   // `shadow_maps`: only with push.visibility.x == kVisibilityShadowMaps
   // (null: placeholders are bound in their place).
-  void record(VkCommandBuffer cmd, const GBufferPass& gbuffer, const vk::Image& field,
+  void record(VkCommandBuffer cmd, const GBufferPass& gbuffer, const MarchFields& fields,
               const ShadowMapPass* shadow_maps, const vk::Buffer& lights, const vk::Buffer& frame,
               const vk::Image& accum_color, const vk::Image& accum_passes, const gpu::ShadePush& push) const;
 

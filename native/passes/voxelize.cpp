@@ -19,13 +19,16 @@ VoxelizePass::VoxelizePass(const vk::Context& context)
              {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
              sizeof(gpu::VoxelizePush)) {}
 
-void VoxelizePass::record(VkCommandBuffer cmd, const GpuScene& scene, const GridSpec& grid,
-                          const vk::Image& seeds) {
+void VoxelizePass::record(VkCommandBuffer cmd, const GpuScene& scene, const GridSpec& grid, const vk::Image& seeds,
+                          const std::vector<VoxelizeItem>& items) {
   // Each triangle is drawn along its own dominant axis into one of three
-  // squares side by side, each big enough for any face of the grid.
+  // squares side by side, each big enough for any face of the grid. The
+  // framebuffer only grows (grids of many sizes share it; the viewport
+  // picks the part used). A growth frees the old one: record one grid per
+  // submission, as CoarseSdf::build does.
   uint32_t edge = uint32_t(std::max(grid.dims.x, std::max(grid.dims.y, grid.dims.z)));
   const uint32_t width = 3 * edge;
-  if (!framebuffer_ || framebuffer_edge_ != edge) {
+  if (!framebuffer_ || framebuffer_edge_ < edge) {
     framebuffer_ = std::make_unique<vk::Framebuffer>(context_, pipeline_.render_pass(), width, edge);
     framebuffer_edge_ = edge;
   }
@@ -54,18 +57,18 @@ void VoxelizePass::record(VkCommandBuffer cmd, const GpuScene& scene, const Grid
                                    vk::Resource::storage_buffer(scene.indices()),
                                    vk::Resource::storage_image(seeds)});
   const glm::mat4 world_to_voxel = grid.world_to_voxel();
-  auto push_for = [&](const Instance& instance) {
-    const GpuMeshRange& mesh = scene.meshes()[instance.mesh];
+  auto push_for = [&](const VoxelizeItem& item) {
+    const GpuMeshRange& mesh = scene.meshes()[item.mesh];
     gpu::VoxelizePush push{};
-    push.object_to_voxel = world_to_voxel * instance.object_to_world;
+    push.object_to_voxel = world_to_voxel * item.object_to_grid_space;
     push.dims = glm::ivec4(grid.dims, int(edge));
     push.first_index = mesh.first_index;
     push.base_vertex = mesh.base_vertex;
     push.triangle_count = mesh.triangle_count;
     return push;
   };
-  for (uint32_t i : scene.shadow_casters()) {
-    gpu::VoxelizePush push = push_for(scene.instances()[i]);
+  for (const VoxelizeItem& item : items) {
+    gpu::VoxelizePush push = push_for(item);
     if (push.triangle_count == 0) continue;
     pipeline_.push_constants(cmd, push);
     vkCmdDraw(cmd, 3 * push.triangle_count, 1, 0, 0);
@@ -75,8 +78,8 @@ void VoxelizePass::record(VkCommandBuffer cmd, const GpuScene& scene, const Grid
   splat_.bind(cmd);
   splat_.push_descriptors(cmd, {vk::Resource::storage_buffer(scene.positions()),
                                 vk::Resource::storage_buffer(scene.indices()), vk::Resource::storage_image(seeds)});
-  for (uint32_t i : scene.shadow_casters()) {
-    gpu::VoxelizePush push = push_for(scene.instances()[i]);
+  for (const VoxelizeItem& item : items) {
+    gpu::VoxelizePush push = push_for(item);
     if (push.triangle_count == 0) continue;
     splat_.push_constants(cmd, push);
     vkCmdDispatch(cmd, vk::group_count(int(push.triangle_count), 64), 1, 1);

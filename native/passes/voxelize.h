@@ -4,6 +4,7 @@
 // rasterized along their dominant axis; those spanning under 2 voxels per axis
 // are splatted by a compute shader instead (cheaper than a raster setup).
 #include <memory>
+#include <vector>
 
 #include "grid.h"
 #include "gpu_scene.h"
@@ -11,11 +12,18 @@
 
 namespace rtsdf {
 
+// A mesh of the scene placed in the grid's space.
+struct VoxelizeItem {
+  uint32_t mesh;
+  glm::mat4 object_to_grid_space;  // the world's, for a world grid; the identity for a mesh's own grid
+};
+
 class VoxelizePass {
  public:
   explicit VoxelizePass(const vk::Context& context);
-  // `seeds` must be an r32ui storage image of the grid's dims in GENERAL layout.
-  void record(VkCommandBuffer cmd, const GpuScene& scene, const GridSpec& grid, const vk::Image& seeds);
+  // Voxelizes `items` into `seeds`, an r32ui storage image of the grid's dims in GENERAL layout.
+  void record(VkCommandBuffer cmd, const GpuScene& scene, const GridSpec& grid, const vk::Image& seeds,
+              const std::vector<VoxelizeItem>& items);
 
  private:
   const vk::Context& context_;

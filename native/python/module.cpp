@@ -156,7 +156,7 @@ rtsdf::Camera camera_of(const py::dict& camera_desc) {
 
 rtsdf::RenderSettings settings_of(const py::dict& settings_desc) {
   rtsdf::RenderSettings settings;
-  // "rtsdf", "rt_only", "jfa_only" or "csm_evsm"; anything else is an rtsdf.Error.
+  // "rtsdf", "rtsdf_world", "rt_only", "jfa_only" or "csm_evsm"; anything else is an rtsdf.Error.
   settings.shadow_method = rtsdf::parse_shadow_method(
       get<std::string>(settings_desc, "shadow_method", rtsdf::shadow_method_name(settings.shadow_method)));
   settings.shadow_map_size = get<int>(settings_desc, "shadow_map_size", settings.shadow_map_size);
@@ -173,12 +173,27 @@ rtsdf::RenderSettings settings_of(const py::dict& settings_desc) {
   settings.samples = get<int>(settings_desc, "samples", settings.samples);
   settings.sdf_updates = get<int>(settings_desc, "sdf_updates", settings.sdf_updates);
   settings.grid_slack = get<float>(settings_desc, "grid_slack", settings.grid_slack);
+  settings.field_budget_mb = get<double>(settings_desc, "field_budget_mb", settings.field_budget_mb);
   return settings;
 }
 
 py::dict timings_of(const rtsdf::RenderTimings& t) {
   return py::dict(py::arg("sdf") = t.coarse_ms, py::arg("fine") = t.fine_ms, py::arg("shadow_map") = t.shadow_map_ms,
                   py::arg("shade") = t.shade_ms, py::arg("total") = t.total_ms);
+}
+
+// What the SDF methods did (see rtsdf::RenderStats).
+py::dict stats_of(const rtsdf::RenderStats& s) {
+  py::dict stats;
+  stats["fields"] = s.fields;
+  stats["field_instances"] = s.field_instances;
+  stats["fields_regenerated"] = s.fields_regenerated;
+  stats["traced_texels"] = s.traced_texels;
+  stats["last_frame_traced_texels"] = s.last_frame_traced_texels;
+  stats["field_mb"] = s.field_mb;
+  stats["resolution_scale"] = s.resolution_scale;
+  stats["skipped_degenerate"] = s.skipped_degenerate;
+  return stats;
 }
 
 py::array_t<float> image_of(const std::vector<float>& values, int height, int width, int channels) {
@@ -267,16 +282,20 @@ class Viewport {
     // Wall time of this call: starting afresh (SDF rebuild after a change), the frame, the read-back.
     result["draw_ms"] = py::dict(py::arg("begin") = draw_ms[0], py::arg("frame") = draw_ms[1], py::arg("read") = draw_ms[2]);
     result["ms"] = timings_of(out.timings);
+    result["stats"] = stats_of(out.stats);
     result["validation_messages"] = context_->validation_message_count();
     return result;
   }
 
-  // The fine SDF as the last draw left it, for inspection: {origin, voxel_size,
-  // distance (z, y, x)}; None before the first fine-SDF update.
-  py::object fine_sdf() const {
-    const rtsdf::FineSdf& fine = renderer_.fine_sdf();
+  // The fine SDF as the last draw left it, for inspection: {space, origin,
+  // voxel_size, distance (z, y, x)}: mesh `mesh`'s own field in its object
+  // space (rtsdf), else the whole scene's in world space; None before the
+  // first fine-SDF update.
+  py::object fine_sdf(uint32_t mesh) const {
+    const rtsdf::FineSdf* own = renderer_.mesh_fine_sdf(mesh);
+    const rtsdf::FineSdf& fine = own ? *own : renderer_.fine_sdf();
     const rtsdf::GridSpec& grid = fine.grid();
-    if (grid.voxel_count() == 0) return py::none();
+    if (grid.voxel_count() == 0 || fine.frames() == 0) return py::none();
     std::vector<float> values;
     {
       py::gil_scoped_release release;
@@ -284,7 +303,8 @@ class Viewport {
     }
     py::array_t<float> distance({grid.dims.z, grid.dims.y, grid.dims.x});
     std::copy(values.begin(), values.end(), distance.mutable_data());
-    return py::dict(py::arg("origin") = py::make_tuple(grid.origin.x, grid.origin.y, grid.origin.z),
+    return py::dict(py::arg("space") = own ? "object" : "world",
+                    py::arg("origin") = py::make_tuple(grid.origin.x, grid.origin.y, grid.origin.z),
                     py::arg("voxel_size") = grid.voxel_size, py::arg("distance") = distance);
   }
 
@@ -354,6 +374,7 @@ class Session {
     result["depth"] = image_of(out.depth, height, width, 1);
     result["shadow"] = image_of(out.shadow, height, width, 1);
     result["ms"] = timings_of(out.timings);
+    result["stats"] = stats_of(out.stats);
     result["validation_messages"] = context_->validation_message_count();
     result["samples_done"] = out.samples_done;
     result["scene_reused"] = reused;
@@ -406,9 +427,10 @@ PYBIND11_MODULE(rtsdf_native, m) {
            "A 4x4 matrix for every instance, in sync's order (only the top-level BVH is rebuilt).")
       .def("set_mesh", &Viewport::set_mesh, py::arg("mesh"), py::arg("positions"),
            "New vertex positions (N, 3) of mesh `mesh`, same vertex count and triangles.")
-      .def("fine_sdf", &Viewport::fine_sdf,
-           "The fine SDF as the last draw left it: {origin, voxel_size, distance (z, y, x) as float32}; None "
-           "before the first fine-SDF update.")
+      .def("fine_sdf", &Viewport::fine_sdf, py::arg("mesh") = 0,
+           "The fine SDF as the last draw left it: {space, origin, voxel_size, distance (z, y, x) as float32}: "
+           "mesh `mesh`'s own field in object space (rtsdf), else the whole scene's in world space; None before "
+           "the first fine-SDF update.")
       .def("draw", &Viewport::draw, py::arg("view"), py::arg("settings") = py::dict(),
            "Adds one accumulation frame of the view {camera, lights, ambient, width, height} and returns combined "
            "(H,W,4, rows top to bottom), frames, converged, advanced and ms. Any change of scene, view or settings "

@@ -66,6 +66,7 @@ class NativeModuleInBlender(unittest.TestCase):
         for _ in range(3):
             viewport.draw(view, {"samples": 3, "coarse_resolution": 32, "fine_resolution": 64})
         fine = viewport.fine_sdf()
+        self.assertEqual(fine["space"], "object")  # (the cube's own field; its instance is untransformed)
         distance, origin, voxel = fine["distance"], np.array(fine["origin"]), fine["voxel_size"]
         self.assertEqual(distance.ndim, 3)
 

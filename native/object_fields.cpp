@@ -1,0 +1,178 @@
+#include "object_fields.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "error.h"
+#include "vk/context.h"
+
+namespace rtsdf {
+
+namespace {
+
+// Device bytes of one mesh's field at these resolutions: the coarse SDF, the
+// fine SDF's images and lists, and its copy in the march's pool.
+size_t field_bytes(const Bounds& bounds, int coarse_resolution, int fine_resolution) {
+  const GridSpec coarse = fit_grid(bounds, coarse_resolution);
+  const GridSpec fine = FineSdf::fit(coarse, fine_resolution);
+  return coarse_sdf_bytes(coarse) + fine.voxel_count() * (FineSdf::kBytesPerTexel + sizeof(float));
+}
+
+bool has_volume_to_fit(const Bounds& bounds) {
+  const glm::vec3 e = bounds.extent();
+  return !bounds.is_empty() && std::max(e.x, std::max(e.y, e.z)) > 0.0f;
+}
+
+}  // namespace
+
+ObjectFields::ObjectFields(const vk::Context& context)
+    : context_(context),
+      coarse_passes_(std::make_shared<CoarsePasses>(context)),
+      fine_pass_(std::make_shared<const FineTracePass>(context)) {}
+
+int ObjectFields::update_limit() const {
+  return settings_.updates > 0 ? settings_.updates : 4 * std::max(settings_.fine.interleave, 1);
+}
+
+bool ObjectFields::refining() const {
+  return std::any_of(fields_.begin(), fields_.end(), [&](const Field& f) { return due(f); });
+}
+
+void ObjectFields::rebuild(GpuScene& scene, Field& field, const Bounds& bounds, int coarse_resolution,
+                           int fine_resolution) {
+  const bool same_resolution = field.coarse && field.coarse_resolution == coarse_resolution &&
+                               field.fine_resolution == fine_resolution && field.beta == settings_.beta;
+  const GridSpec* current = settings_.keep_history && same_resolution ? &field.coarse_grid : nullptr;
+  const GridSpec coarse_grid = keep_or_fit_grid(current, bounds, coarse_resolution, settings_.grid_slack);
+  const bool same_grid = current && coarse_grid.origin == field.coarse_grid.origin &&
+                         coarse_grid.voxel_size == field.coarse_grid.voxel_size && coarse_grid.dims == field.coarse_grid.dims;
+  if (!field.coarse) field.coarse = std::make_unique<CoarseSdf>(context_, coarse_passes_);
+  if (!field.fine) field.fine = std::make_unique<FineSdf>(context_, fine_pass_);
+  field.coarse_grid = coarse_grid;
+  field.fine_grid = FineSdf::fit(coarse_grid, fine_resolution);
+  field.coarse->build_mesh(scene, field.mesh, coarse_grid, settings_.beta);
+  // A kept grid keeps the fine SDF's history (the decay forgets what the
+  // deformation moved); anything else starts afresh.
+  if (!same_grid) field.fine->reset();
+  field.coarse_resolution = coarse_resolution;
+  field.fine_resolution = fine_resolution;
+  field.beta = settings_.beta;
+  field.version = scene.mesh_version(field.mesh);
+  field.updates = 0;
+  stats_.regenerated++;
+}
+
+void ObjectFields::sync(GpuScene& scene, const ObjectFieldSettings& settings, MarchFields& march) {
+  if (!(settings.budget_mb > 0.0)) throw Error("the field memory budget must be positive");
+  settings_ = settings;
+  if (scene.id() != scene_id_) {
+    fields_.clear();
+    scene_id_ = scene.id();
+  }
+  stats_ = {};
+
+  // The meshes that need a field: those of the shadow casters (with
+  // triangles and some extent), each once however many instances it has.
+  const std::vector<Instance>& instances = scene.instances();
+  std::vector<uint32_t> meshes;
+  for (uint32_t i : scene.shadow_casters()) meshes.push_back(instances[i].mesh);
+  std::sort(meshes.begin(), meshes.end());
+  meshes.erase(std::unique(meshes.begin(), meshes.end()), meshes.end());
+  std::vector<Bounds> bounds;
+  std::vector<uint32_t> kept;
+  for (uint32_t m : meshes) {
+    const Bounds b = scene.mesh_bounds(m);
+    if (scene.meshes()[m].triangle_count == 0 || !has_volume_to_fit(b)) continue;
+    kept.push_back(m);
+    bounds.push_back(b);
+  }
+  meshes = kept;
+
+  // Resolutions: each mesh's own, lowered alike until all fit the budget.
+  const double budget = settings.budget_mb * 1024.0 * 1024.0;
+  float scale = 1.0f;
+  auto resolutions = [&](float s) {
+    const int coarse = std::max(8, int(std::lround(settings.coarse_resolution * s)));
+    return std::pair{coarse, std::max(coarse, int(std::lround(settings.fine_resolution * s)))};
+  };
+  for (int attempt = 0;; ++attempt) {
+    const auto [coarse, fine] = resolutions(scale);
+    double total = 0.0;
+    for (const Bounds& b : bounds) total += double(field_bytes(b, coarse, fine));
+    if (total <= budget) break;
+    if (coarse == 8 || attempt == 32)
+      throw Error("the distance fields of " + std::to_string(meshes.size()) + " meshes need " +
+                  std::to_string(int(total / (1 << 20))) + " MiB even at the coarsest resolution, over the budget of " +
+                  std::to_string(int(settings.budget_mb)) + " MiB");
+    scale *= std::min(0.95f, float(std::cbrt(budget / total)));
+  }
+  stats_.resolution_scale = scale;
+  const auto [coarse_resolution, fine_resolution] = resolutions(scale);
+
+  // Keep the fields of meshes still casting, in mesh order; (re)build what is stale.
+  std::vector<Field> fields;
+  for (size_t k = 0; k < meshes.size(); ++k) {
+    auto old = std::find_if(fields_.begin(), fields_.end(), [&](const Field& f) { return f.mesh == meshes[k]; });
+    Field field;
+    if (old != fields_.end()) field = std::move(*old);
+    field.mesh = meshes[k];
+    const bool stale = !field.coarse || field.version != scene.mesh_version(field.mesh) ||
+                       field.coarse_resolution != coarse_resolution || field.fine_resolution != fine_resolution ||
+                       field.beta != settings.beta;
+    if (stale) rebuild(scene, field, bounds[k], coarse_resolution, fine_resolution);
+    fields.push_back(std::move(field));
+  }
+  fields_ = std::move(fields);
+
+  std::vector<GridSpec> grids;
+  for (const Field& f : fields_) grids.push_back(f.fine_grid);
+  if (march.set_layout(grids, bounds))
+    for (Field& f : fields_) f.copied = false;
+
+  // Place every caster instance of a mesh with a field.
+  std::vector<MarchFields::Placement> placements;
+  instance_voxels_.assign(instances.size(), 0.0f);
+  for (uint32_t i : scene.shadow_casters()) {
+    auto it = std::lower_bound(meshes.begin(), meshes.end(), instances[i].mesh);
+    if (it == meshes.end() || *it != instances[i].mesh) continue;
+    const uint32_t slot = uint32_t(it - meshes.begin());
+    placements.push_back({slot, instances[i].object_to_world});
+    const glm::vec2 stretch = singular_value_range(glm::mat3(instances[i].object_to_world));
+    if (stretch.x > kDegenerateScale * stretch.y) instance_voxels_[i] = march.world_voxel(slot, instances[i].object_to_world);
+  }
+  march.place(placements);
+
+  stats_.fields = int(fields_.size());
+  stats_.placed = int(march.instance_count());
+  stats_.skipped_degenerate = int(march.skipped_degenerate());
+  stats_.bytes = march.pool_bytes();
+  for (const Field& f : fields_) stats_.bytes += coarse_sdf_bytes(f.coarse_grid) + f.fine_grid.voxel_count() * FineSdf::kBytesPerTexel;
+}
+
+const FineSdf* ObjectFields::fine_field(uint32_t mesh) const {
+  for (const Field& f : fields_)
+    if (f.mesh == mesh && f.fine && f.fine->frames() > 0) return f.fine.get();
+  return nullptr;
+}
+
+void ObjectFields::refine(GpuScene& scene, MarchFields& march) {
+  stats_.refined = 0;
+  stats_.traced_texels = 0;
+  for (Field& f : fields_) {
+    if (!due(f)) continue;
+    f.fine->update(scene.mesh_rays(f.mesh), *f.coarse, f.fine_grid, settings_.fine);
+    stats_.traced_texels += f.fine->read_traced_texels();
+    stats_.refined++;
+    f.updates++;
+    f.copied = false;
+  }
+  if (std::all_of(fields_.begin(), fields_.end(), [](const Field& f) { return f.copied; })) return;
+  context_.submit_and_wait([&](VkCommandBuffer cmd) {
+    for (uint32_t slot = 0; slot < fields_.size(); ++slot)
+      if (!fields_[slot].copied) march.record_copy(cmd, slot, fields_[slot].fine->distance());
+    MarchFields::record_copies_done(cmd);
+  });
+  for (Field& f : fields_) f.copied = true;
+}
+
+}  // namespace rtsdf

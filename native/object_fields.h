@@ -1,0 +1,101 @@
+#pragma once
+// The object-space design (beyond the paper, which builds one field for the
+// whole scene every frame): one field per unique mesh that casts shadows, in
+// the mesh's own space, built with the paper's pipeline (coarse SDF by jump
+// flooding, fine SDF ray traced in a band around the surfaces and accumulated
+// over updates) and shared by every instance of the mesh.
+// - A rigid motion moves instances and touches no field.
+// - A mesh whose geometry changes (deformation) is rebuilt in its own grid,
+//   keeping the fine SDF's history where the grid stays (the paper's
+//   per-frame path, per mesh).
+// - A field is refined in its first updates after a (re)build, then left
+//   as it is: a still field costs nothing.
+// - Each mesh's voxels come from its own size, under a memory budget.
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "coarse_sdf.h"
+#include "fine_sdf.h"
+#include "march_fields.h"
+
+namespace rtsdf {
+
+struct ObjectFieldSettings {
+  int coarse_resolution = 64;  // voxels on the longest axis of each mesh's coarse grid
+  int fine_resolution = 128;   // voxels on the longest axis of each mesh's fine grid
+  float beta = 0.5f;           // coarse voxels
+  FineTraceSettings fine;
+  // Fine updates of a field after each (re)build; 0: four passes over its
+  // band (4 x fine.interleave updates).
+  int updates = 4;
+  // Keep a deformed mesh's grid (and so its fine SDF's history) while the
+  // mesh stays inside it; the grid then has `grid_slack` x the mesh's
+  // extent of room around it. Off: every rebuild starts afresh on a tight grid.
+  bool keep_history = false;
+  float grid_slack = 0.0f;
+  // Device memory for all fields (coarse, fine and the march's pool), in
+  // MiB: resolutions are lowered alike until the fields fit.
+  double budget_mb = 1024.0;
+};
+
+struct ObjectFieldStats {
+  int fields = 0;               // meshes with a field
+  int placed = 0;               // instances placed (sharing those fields)
+  int regenerated = 0;          // fields (re)built by the last sync
+  int refined = 0;              // fields updated by the last refine
+  uint64_t traced_texels = 0;   // texels traced by the last refine
+  size_t bytes = 0;             // device memory of the fields
+  float resolution_scale = 1;   // below 1: resolutions lowered to fit the budget
+  int skipped_degenerate = 0;   // instances left out: a scale flattens them
+};
+
+class ObjectFields {
+ public:
+  explicit ObjectFields(const vk::Context& context);
+
+  // Brings the fields up to date with the scene's shadow casters and places
+  // every caster instance in `march`: a mesh new to the fields, changed in
+  // geometry or with other settings gets its coarse SDF (re)built and is
+  // due for refinement. Throws rtsdf::Error when even the coarsest fields
+  // exceed the budget.
+  void sync(GpuScene& scene, const ObjectFieldSettings& settings, MarchFields& march);
+  // One fine update of every field still due, copied into `march` (with any
+  // field `march` lost in a new layout). Call after sync.
+  void refine(GpuScene& scene, MarchFields& march);
+  // Whether some field is still due for refinement.
+  bool refining() const;
+
+  const ObjectFieldStats& stats() const { return stats_; }
+  // A mesh's fine SDF (in its own space), or null if it has no field or was never refined.
+  const FineSdf* fine_field(uint32_t mesh) const;
+  // Per instance of the scene: the world size of its field's voxel (0: in no field).
+  const std::vector<float>& instance_voxels() const { return instance_voxels_; }
+
+ private:
+  struct Field {
+    uint32_t mesh = 0;
+    uint64_t version = 0;
+    int coarse_resolution = 0, fine_resolution = 0;
+    float beta = 0.0f;
+    GridSpec coarse_grid, fine_grid;
+    std::unique_ptr<CoarseSdf> coarse;
+    std::unique_ptr<FineSdf> fine;
+    int updates = 0;      // since the last (re)build
+    bool copied = false;  // into the march's pool, since its layout
+  };
+  int update_limit() const;
+  bool due(const Field& field) const { return field.updates < update_limit(); }
+  void rebuild(GpuScene& scene, Field& field, const Bounds& bounds, int coarse_resolution, int fine_resolution);
+
+  const vk::Context& context_;
+  std::shared_ptr<CoarsePasses> coarse_passes_;
+  std::shared_ptr<const FineTracePass> fine_pass_;
+  ObjectFieldSettings settings_;
+  uint64_t scene_id_ = 0;
+  std::vector<Field> fields_;  // by mesh index, in the march's layout order
+  std::vector<float> instance_voxels_;
+  ObjectFieldStats stats_;
+};
+
+}  // namespace rtsdf

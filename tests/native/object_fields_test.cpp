@@ -1,0 +1,218 @@
+// The object-space fields (rtsdf): one field per mesh shared by its
+// instances, rigid motion costs no SDF work, deformation rebuilds only the
+// mesh that changed, non-uniform scale stays conservative, and the memory
+// budget coarsens fields instead of failing.
+#include <cmath>
+#include <glm/gtc/matrix_transform.hpp>
+
+#include "error.h"
+#include "march_fields.h"
+#include "reference/shapes.h"
+#include "renderer.h"
+#include "vulkan_test.h"
+
+namespace rtsdf {
+namespace {
+
+class ObjectFieldsTest : public testing::VulkanTest {};
+
+Camera top_view(float half_size) {
+  Camera camera;
+  camera.world_to_view = glm::lookAt(glm::vec3(0, 0, 10), glm::vec3(0), glm::vec3(0, 1, 0));
+  camera.projection = glm::orthoRH_NO(-half_size, half_size, -half_size, half_size, 0.1f, 20.0f);
+  camera.orthographic = true;
+  return camera;
+}
+
+Light overhead_sun() {
+  Light sun;
+  sun.type = LightType::Sun;
+  sun.direction = glm::normalize(glm::vec3(0.3f, 0.2f, -1.0f));
+  sun.energy = 3.0f;
+  sun.sun_angle = 0.1f;
+  return sun;
+}
+
+// A unit sphere (mesh 0), a box (mesh 1) and a ground sheet (mesh 2, left out of the fields).
+Scene sphere_box_ground() {
+  Scene scene;
+  scene.meshes = {reference::uv_sphere({0, 0, 0}, 0.5f, 32), reference::box({-0.3f, -0.3f, -0.3f}, {0.3f, 0.3f, 0.3f}),
+                  reference::sheet({-6, -6}, {6, 6}, 0.0f)};
+  scene.instances = {{0, glm::translate(glm::mat4(1.0f), {-1.0f, 0, 1.0f})},
+                     {1, glm::translate(glm::mat4(1.0f), {1.0f, 0.5f, 0.8f})},
+                     {2, glm::mat4(1.0f)}};
+  return scene;
+}
+
+// The viewport's settings: fields keep their history and refine until converged.
+RenderSettings viewport_settings() {
+  RenderSettings settings;
+  settings.keep_history = true;
+  settings.fine.interleave = 4;
+  settings.grid_slack = 0.5f;
+  settings.samples = 64;
+  return settings;
+}
+
+// Draws frames until the fields stop refining (at most `limit`).
+void run_until_still(Renderer& renderer, int limit = 40) {
+  for (int i = 0; i < limit; ++i) {
+    renderer.add_frame();
+    if (renderer.stats().last_frame_traced_texels == 0) return;
+  }
+}
+
+TEST_F(ObjectFieldsTest, RigidMotionTracesNoTexelAndMatchesAFreshRender) {
+  Scene scene = sphere_box_ground();
+  GpuScene gpu_scene(context(), scene);
+  const RenderSettings settings = viewport_settings();
+  const Camera camera = top_view(3.0f);
+  Renderer renderer(context());
+  renderer.begin(gpu_scene, camera, {overhead_sun()}, glm::vec3(0.1f), 96, 96, settings, true);
+  EXPECT_EQ(renderer.stats().fields, 2) << "the ground casts no shadow and holds no field";
+  EXPECT_EQ(renderer.stats().fields_regenerated, 2);
+  renderer.add_frame();
+  EXPECT_GT(renderer.stats().last_frame_traced_texels, 0u);
+  run_until_still(renderer);
+  ASSERT_EQ(renderer.stats().last_frame_traced_texels, 0u) << "a still field stops refining";
+
+  // Move, turn and scale the sphere: only transforms change.
+  std::vector<glm::mat4> moved;
+  for (const Instance& instance : scene.instances) moved.push_back(instance.object_to_world);
+  moved[0] = glm::scale(glm::rotate(glm::translate(glm::mat4(1.0f), {-0.4f, -0.8f, 1.2f}), 0.7f, {0, 1, 1}),
+                        glm::vec3(1.3f));
+  gpu_scene.set_transforms(moved);
+  renderer.begin(gpu_scene, camera, {overhead_sun()}, glm::vec3(0.1f), 96, 96, settings, true);
+  EXPECT_EQ(renderer.stats().fields_regenerated, 0) << "a rigid motion voxelizes nothing";
+  for (int i = 0; i < 8; ++i) {
+    renderer.add_frame();
+    EXPECT_EQ(renderer.stats().last_frame_traced_texels, 0u) << "a rigid motion traces nothing (frame " << i << ")";
+  }
+  const RenderOutput after_move = renderer.read();
+
+  // The same scene, uploaded afresh with the sphere already there, its fields converged the same way.
+  for (size_t i = 0; i < moved.size(); ++i) scene.instances[i].object_to_world = moved[i];
+  GpuScene fresh_scene(context(), scene);
+  Renderer fresh(context());
+  fresh.begin(fresh_scene, camera, {overhead_sun()}, glm::vec3(0.1f), 96, 96, settings, true);
+  run_until_still(fresh);
+  fresh.begin(fresh_scene, camera, {overhead_sun()}, glm::vec3(0.1f), 96, 96, settings, true);
+  for (int i = 0; i < 8; ++i) fresh.add_frame();
+  const RenderOutput reference = fresh.read();
+  ASSERT_EQ(after_move.shadow.size(), reference.shadow.size());
+  double worst = 0.0, shadowed = 0.0;
+  for (size_t i = 0; i < reference.shadow.size(); ++i) {
+    worst = std::max(worst, double(std::abs(after_move.shadow[i] - reference.shadow[i])));
+    shadowed += reference.shadow[i] < 0.5f;
+  }
+  EXPECT_GT(shadowed, 100) << "the moved sphere casts a shadow in view";
+  EXPECT_LT(worst, 1e-3) << "the moved instance's shadow is where a fresh render puts it";
+}
+
+TEST_F(ObjectFieldsTest, InstancesShareOneField) {
+  Scene scene;
+  scene.meshes = {reference::uv_sphere({0, 0, 0}, 0.2f, 16), reference::sheet({-8, -8}, {8, 8}, 0.0f)};
+  for (int i = 0; i < 100; ++i)
+    scene.instances.push_back({0, glm::translate(glm::mat4(1.0f), {-5.0f + float(i % 10), -5.0f + float(i / 10), 0.5f})});
+  scene.instances.push_back({1, glm::mat4(1.0f)});
+  GpuScene gpu_scene(context(), scene);
+  RenderSettings settings;
+  settings.samples = 2;
+  Renderer renderer(context());
+  const RenderOutput out = renderer.render(gpu_scene, top_view(6.0f), {overhead_sun()}, glm::vec3(0.1f), 128, 128, settings);
+  EXPECT_EQ(out.stats.fields, 1);
+  EXPECT_EQ(out.stats.field_instances, 100);
+  // Every sphere shadows the ground next to it: more than 100 small shadows' worth of pixels.
+  int dark = 0;
+  for (float v : out.shadow) dark += v < 0.2f;
+  EXPECT_GT(dark, 100 * 3);
+}
+
+TEST_F(ObjectFieldsTest, DeformationRebuildsOnlyThatMesh) {
+  Scene scene = sphere_box_ground();
+  GpuScene gpu_scene(context(), scene);
+  const RenderSettings settings = viewport_settings();
+  Renderer renderer(context());
+  renderer.begin(gpu_scene, top_view(3.0f), {overhead_sun()}, glm::vec3(0.1f), 64, 64, settings, true);
+  run_until_still(renderer);
+  std::vector<glm::vec3> grown = scene.meshes[0].positions;
+  for (glm::vec3& p : grown) p *= 1.2f;
+  gpu_scene.set_mesh_positions(0, grown);
+  renderer.begin(gpu_scene, top_view(3.0f), {overhead_sun()}, glm::vec3(0.1f), 64, 64, settings, true);
+  EXPECT_EQ(renderer.stats().fields_regenerated, 1) << "only the deformed mesh's field is rebuilt";
+  renderer.add_frame();
+  EXPECT_GT(renderer.stats().last_frame_traced_texels, 0u) << "and refined";
+}
+
+// A scaled sphere's shadow against the same ellipsoid baked into the mesh
+// (exact distances): the conservative scale loses no shadow.
+TEST_F(ObjectFieldsTest, NonUniformScaleLosesNoShadow) {
+  const glm::vec3 stretch(2.0f, 0.6f, 0.35f);
+  const glm::mat4 place = glm::translate(glm::mat4(1.0f), {0, 0, 1.0f});
+  auto shadow_of = [&](bool baked) {
+    Scene scene;
+    Mesh sphere = reference::uv_sphere({0, 0, 0}, 0.5f, 48);
+    if (baked)
+      for (glm::vec3& p : sphere.positions) p *= stretch;
+    scene.meshes = {sphere, reference::sheet({-6, -6}, {6, 6}, 0.0f)};
+    scene.instances = {{0, baked ? place : glm::scale(place, stretch)}, {1, glm::mat4(1.0f)}};
+    GpuScene gpu_scene(context(), scene);
+    RenderSettings settings;
+    settings.samples = 8;
+    Renderer renderer(context());
+    return renderer.render(gpu_scene, top_view(1.5f), {overhead_sun()}, glm::vec3(0.0f), 96, 96, settings).shadow;
+  };
+  const std::vector<float> scaled = shadow_of(false), baked = shadow_of(true);
+  int umbra = 0, lost = 0;
+  for (size_t i = 0; i < baked.size(); ++i) {
+    if (baked[i] > 0.1f) continue;
+    umbra++;
+    lost += scaled[i] > 0.5f;
+  }
+  EXPECT_GT(umbra, 200);
+  EXPECT_EQ(lost, 0) << "umbra pixels of the exact ellipsoid lit under the scaled sphere";
+}
+
+TEST_F(ObjectFieldsTest, OverBudgetFieldsAreCoarsenedNotRefused) {
+  GpuScene gpu_scene(context(), sphere_box_ground());
+  RenderSettings settings;
+  settings.samples = 2;
+  Renderer renderer(context());
+  const RenderOutput full = renderer.render(gpu_scene, top_view(3.0f), {overhead_sun()}, glm::vec3(0.1f), 64, 64, settings);
+  EXPECT_FLOAT_EQ(full.stats.resolution_scale, 1.0f);
+  settings.field_budget_mb = 8.0;
+  const RenderOutput small = renderer.render(gpu_scene, top_view(3.0f), {overhead_sun()}, glm::vec3(0.1f), 64, 64, settings);
+  EXPECT_LT(small.stats.resolution_scale, 1.0f);
+  EXPECT_LE(small.stats.field_mb, 8.0);
+  EXPECT_GT(full.stats.field_mb, 8.0);
+  int dark = 0;
+  for (float v : small.shadow) dark += v < 0.2f;
+  EXPECT_GT(dark, 50) << "coarser fields still cast shadows";
+  settings.field_budget_mb = 0.0;
+  EXPECT_THROW(renderer.render(gpu_scene, top_view(3.0f), {overhead_sun()}, glm::vec3(0.1f), 64, 64, settings), Error);
+}
+
+TEST_F(ObjectFieldsTest, FlattenedInstanceIsCountedAndTheRestRenders) {
+  Scene scene = sphere_box_ground();
+  scene.instances[0].object_to_world = glm::scale(scene.instances[0].object_to_world, {1.0f, 1.0f, 0.0f});
+  GpuScene gpu_scene(context(), scene);
+  RenderSettings settings;
+  settings.samples = 2;
+  Renderer renderer(context());
+  const RenderOutput out = renderer.render(gpu_scene, top_view(3.0f), {overhead_sun()}, glm::vec3(0.1f), 64, 64, settings);
+  EXPECT_EQ(out.stats.skipped_degenerate, 1);
+  EXPECT_EQ(out.stats.field_instances, 1) << "the box still casts its shadow";
+}
+
+TEST(SingularValues, OfScalesAndRotations) {
+  const glm::mat3 m = glm::mat3(glm::rotate(glm::mat4(1.0f), 0.8f, glm::normalize(glm::vec3(1, 2, 3)))) *
+                      glm::mat3(glm::scale(glm::mat4(1.0f), {3.0f, -0.5f, 1.5f}));
+  const glm::vec2 range = singular_value_range(m);
+  EXPECT_NEAR(range.x, 0.5f, 1e-4f);
+  EXPECT_NEAR(range.y, 3.0f, 1e-4f);
+  EXPECT_NEAR(singular_value_range(glm::mat3(2.0f)).x, 2.0f, 1e-5f);
+  EXPECT_NEAR(singular_value_range(glm::mat3(0.0f)).y, 0.0f, 1e-6f);
+}
+
+}  // namespace
+}  // namespace rtsdf
