@@ -1,4 +1,4 @@
-"""Makes a scene of a CAD-like part (a mesh file: PLY, STL or OBJ, e.g. the
+"""Makes a scene of a CAD-like part (a mesh file: PLY, STL, OBJ or glTF, e.g. the
 110k-triangle cad_part made by make_cad_part.py) standing on a ground plane
 under a sun 5 degrees wide, at 640x360: the setting in which RTSDF is checked
 against Cycles and EEVEE. The part is scaled to 1.8 units across.
@@ -20,10 +20,17 @@ def main():
     bpy.ops.wm.read_factory_settings(use_empty=True)
     scene = bpy.context.scene
     extension = os.path.splitext(mesh_path)[1].lower()
-    importers = {".ply": bpy.ops.import_mesh.ply, ".stl": bpy.ops.import_mesh.stl, ".obj": bpy.ops.import_scene.obj}
+    if extension in (".glb", ".gltf"):
+        import numpy
+        numpy.bool = bool  # (Blender 3.4's glTF importer still uses it; numpy 1.24 removed it)
+    importers = {".ply": bpy.ops.import_mesh.ply, ".stl": bpy.ops.import_mesh.stl, ".obj": bpy.ops.import_scene.obj,
+                 ".glb": bpy.ops.import_scene.gltf, ".gltf": bpy.ops.import_scene.gltf}
     if extension not in importers:
-        sys.exit(f"make_cad_on_ground: {mesh_path}: use a .ply, .stl or .obj file")
+        sys.exit(f"make_cad_on_ground: {mesh_path}: use a .ply, .stl, .obj, .glb or .gltf file")
     importers[extension](filepath=mesh_path)
+    for obj in bpy.context.selected_objects:  # (a glTF's node empties come along)
+        if obj.type != "MESH":
+            obj.select_set(False)
     if not bpy.context.selected_objects:
         sys.exit(f"make_cad_on_ground: {mesh_path}: no mesh was imported")
     if len(bpy.context.selected_objects) > 1:

@@ -43,7 +43,10 @@ void ObjectFields::rebuild(GpuScene& scene, Field& field, const Bounds& bounds, 
   const bool same_resolution = field.coarse && field.coarse_resolution == coarse_resolution &&
                                field.fine_resolution == fine_resolution && field.beta == settings_.beta;
   const GridSpec* current = settings_.keep_history && same_resolution ? &field.coarse_grid : nullptr;
-  const GridSpec coarse_grid = keep_or_fit_grid(current, bounds, coarse_resolution, settings_.grid_slack);
+  // Room around the mesh only once it deforms: a rigid mesh never outgrows its grid.
+  const bool deformed = field.coarse && field.version != scene.mesh_version(field.mesh);
+  const GridSpec coarse_grid =
+      keep_or_fit_grid(current, bounds, coarse_resolution, deformed ? settings_.grid_slack : 0.0f);
   const bool same_grid = current && coarse_grid.origin == field.coarse_grid.origin &&
                          coarse_grid.voxel_size == field.coarse_grid.voxel_size && coarse_grid.dims == field.coarse_grid.dims;
   if (!field.coarse) field.coarse = std::make_unique<CoarseSdf>(context_, coarse_passes_);
