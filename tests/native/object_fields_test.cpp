@@ -54,6 +54,15 @@ RenderSettings viewport_settings() {
   return settings;
 }
 
+// A final render of `scene` (2 samples) from above under the overhead sun.
+RenderOutput quick_render(const Scene& scene, float half_size, int size) {
+  GpuScene gpu_scene(testing::VulkanTest::context(), scene);
+  RenderSettings settings;
+  settings.samples = 2;
+  Renderer renderer(testing::VulkanTest::context());
+  return renderer.render(gpu_scene, top_view(half_size), {overhead_sun()}, glm::vec3(0.1f), size, size, settings);
+}
+
 // Draws frames until the fields stop refining (at most `limit`).
 void run_until_still(Renderer& renderer, int limit = 40) {
   for (int i = 0; i < limit; ++i) {
@@ -115,11 +124,7 @@ TEST_F(ObjectFieldsTest, InstancesShareOneField) {
   for (int i = 0; i < 100; ++i)
     scene.instances.push_back({0, glm::translate(glm::mat4(1.0f), {-5.0f + float(i % 10), -5.0f + float(i / 10), 0.5f})});
   scene.instances.push_back({1, glm::mat4(1.0f)});
-  GpuScene gpu_scene(context(), scene);
-  RenderSettings settings;
-  settings.samples = 2;
-  Renderer renderer(context());
-  const RenderOutput out = renderer.render(gpu_scene, top_view(6.0f), {overhead_sun()}, glm::vec3(0.1f), 128, 128, settings);
+  const RenderOutput out = quick_render(scene, 6.0f, 128);
   EXPECT_EQ(out.stats.fields, 1);
   EXPECT_EQ(out.stats.field_instances, 100);
   // Every sphere shadows the ground next to it: more than 100 small shadows' worth of pixels.
@@ -195,11 +200,7 @@ TEST_F(ObjectFieldsTest, OverBudgetFieldsAreCoarsenedNotRefused) {
 TEST_F(ObjectFieldsTest, FlattenedInstanceIsCountedAndTheRestRenders) {
   Scene scene = sphere_box_ground();
   scene.instances[0].object_to_world = glm::scale(scene.instances[0].object_to_world, {1.0f, 1.0f, 0.0f});
-  GpuScene gpu_scene(context(), scene);
-  RenderSettings settings;
-  settings.samples = 2;
-  Renderer renderer(context());
-  const RenderOutput out = renderer.render(gpu_scene, top_view(3.0f), {overhead_sun()}, glm::vec3(0.1f), 64, 64, settings);
+  const RenderOutput out = quick_render(scene, 3.0f, 64);
   EXPECT_EQ(out.stats.skipped_degenerate, 1);
   EXPECT_EQ(out.stats.field_instances, 1) << "the box still casts its shadow";
 }
