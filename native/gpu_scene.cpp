@@ -211,6 +211,10 @@ void GpuScene::set_transforms(const std::vector<glm::mat4>& object_to_world) {
 void GpuScene::set_mesh_positions(uint32_t mesh, const std::vector<glm::vec3>& positions) {
   if (mesh >= scene_.meshes.size() || positions.size() != scene_.meshes[mesh].positions.size())
     throw Error("set_mesh_positions: the vertex count must stay the same");
+  // Blender reports animated objects' geometry as updated on every frame
+  // change, deformed or not: the same positions again are no deformation,
+  // and keep the mesh's field.
+  if (positions == scene_.meshes[mesh].positions) return;
   Scene deformed = scene_;
   deformed.meshes[mesh].positions = positions;
   deformed.validate();

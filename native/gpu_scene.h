@@ -82,7 +82,8 @@ class GpuScene {
   RayTargets mesh_rays(uint32_t mesh);
   // Object-space bounds of a mesh's vertices (empty for a mesh without any).
   Bounds mesh_bounds(uint32_t mesh) const;
-  // Counts the geometry changes of a mesh (set_mesh_positions), from 0.
+  // Counts the geometry changes of a mesh (set_mesh_positions with other
+  // positions than it has), from 0.
   uint64_t mesh_version(uint32_t mesh) const { return mesh_versions_.at(mesh); }
   // Tells this scene from any other made in the process, even at the same address.
   uint64_t id() const { return id_; }

@@ -130,6 +130,11 @@ class Renderer {
              int height, const RenderSettings& settings, bool scene_changed);
   void add_frame();
   int frames() const { return frame_; }
+  // Whether some object-space field is still refining: a viewport keeps
+  // drawing frames until it is not, even with its samples in.
+  bool refining() const {
+    return settings_.shadow_method == ShadowMethod::Rtsdf && has_casters_ && object_fields_.refining();
+  }
   // Wall times since begin().
   const RenderTimings& timings() const { return timings_; }
   const RenderStats& stats() const { return stats_; }

@@ -171,7 +171,8 @@ class RTSDFRenderEngine(bpy.types.RenderEngine):
         self.report_view_stats(out, settings.viewport_samples)
         last_view_draw.update(frames=out["frames"], converged=out["converged"], ms=dict(self.last_draw or out["ms"]),
                               width=width, height=height, time=time.perf_counter(),
-                              validation_messages=out["validation_messages"], draw_ms=out["draw_ms"])
+                              validation_messages=out["validation_messages"], draw_ms=out["draw_ms"],
+                              stats=dict(out["stats"]))
         if not out["converged"]:
             self.tag_redraw()
 

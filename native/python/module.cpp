@@ -240,7 +240,8 @@ class Viewport {
 
   // one accumulation frame of the view (camera, lights, ambient,
   // width, height). A changed scene, view or setting starts the accumulation
-  // afresh; once settings["samples"] frames are in, nothing more is done.
+  // afresh; once settings["samples"] frames are in and the fields have
+  // stopped refining, nothing more is done.
   py::dict draw(const py::dict& view_desc, const py::dict& settings_desc) {
     if (!scene_) throw rtsdf::Error("draw: call sync first");
     std::vector<rtsdf::Light> lights = lights_of(view_desc["lights"].cast<py::list>());
@@ -264,7 +265,7 @@ class Viewport {
         key_ = key;
       }
       auto t1 = Clock::now();
-      if (renderer_.frames() < settings.samples) {
+      if (renderer_.frames() < settings.samples || renderer_.refining()) {
         renderer_.add_frame();
         advanced = true;
       }
@@ -277,7 +278,7 @@ class Viewport {
     py::dict result;
     result["combined"] = image_of(out.combined, height, width, 4);  // rows top to bottom
     result["frames"] = out.samples_done;
-    result["converged"] = out.samples_done >= settings.samples;
+    result["converged"] = out.samples_done >= settings.samples && !renderer_.refining();
     result["advanced"] = advanced;
     // Wall time of this call: starting afresh (SDF rebuild after a change), the frame, the read-back.
     result["draw_ms"] = py::dict(py::arg("begin") = draw_ms[0], py::arg("frame") = draw_ms[1], py::arg("read") = draw_ms[2]);

@@ -63,8 +63,10 @@ class NativeModuleInBlender(unittest.TestCase):
         viewport.sync(scene)
         self.assertIsNone(viewport.fine_sdf())
         view = {key: scene[key] for key in ("camera", "lights", "ambient", "width", "height")}
+        # sdf_updates 0 (the viewport's): the field refines over 4 passes of its band, 8 updates at interleave 2.
+        settings = {"samples": 3, "coarse_resolution": 32, "fine_resolution": 64, "sdf_updates": 0, "interleave": 2}
         for _ in range(3):
-            viewport.draw(view, {"samples": 3, "coarse_resolution": 32, "fine_resolution": 64})
+            viewport.draw(view, settings)
         fine = viewport.fine_sdf()
         self.assertEqual(fine["space"], "object")  # (the cube's own field; its instance is untransformed)
         distance, origin, voxel = fine["distance"], np.array(fine["origin"]), fine["voxel_size"]
@@ -78,6 +80,20 @@ class NativeModuleInBlender(unittest.TestCase):
         self.assertLess(inside, 0.0)
         outside, centre = at((0.0, 0.0, 1.0 + 1.5 * voxel))
         self.assertAlmostEqual(outside, centre[2] - 1.0, delta=0.5 * voxel)
+
+        # Moved after 3 of its 8 updates: the field keeps refining (a move
+        # costs it nothing), and the viewport keeps drawing past its 3 samples
+        # until the field is done, then stops.
+        moved = eye.copy()
+        moved[0, 3] = 0.5
+        viewport.set_transforms([moved])
+        draws = [viewport.draw(view, settings) for _ in range(12)]
+        self.assertEqual([d["advanced"] for d in draws], [True] * 5 + [False] * 7)
+        self.assertEqual([d["converged"] for d in draws], [False] * 4 + [True] * 8)
+        self.assertTrue(all(d["stats"]["last_frame_traced_texels"] > 0 for d in draws[:5]))
+        self.assertEqual([d["stats"]["fields_regenerated"] for d in draws], [0] * 12)
+        viewport.set_transforms([eye])
+        self.assertEqual(viewport.draw(view, settings)["stats"]["last_frame_traced_texels"], 0, "refined: moves trace nothing")
 
     def test_bad_input_raises(self):
         with self.assertRaises(rtsdf_native.Error):

@@ -140,6 +140,12 @@ TEST_F(ObjectFieldsTest, DeformationRebuildsOnlyThatMesh) {
   Renderer renderer(context());
   renderer.begin(gpu_scene, top_view(3.0f), {overhead_sun()}, glm::vec3(0.1f), 64, 64, settings, true);
   run_until_still(renderer);
+  // The same positions again (what Blender sends for an animated object on
+  // every frame change) are no deformation.
+  gpu_scene.set_mesh_positions(0, scene.meshes[0].positions);
+  EXPECT_EQ(gpu_scene.mesh_version(0), 0u);
+  renderer.begin(gpu_scene, top_view(3.0f), {overhead_sun()}, glm::vec3(0.1f), 64, 64, settings, true);
+  EXPECT_EQ(renderer.stats().fields_regenerated, 0);
   std::vector<glm::vec3> grown = scene.meshes[0].positions;
   for (glm::vec3& p : grown) p *= 1.2f;
   gpu_scene.set_mesh_positions(0, grown);
