@@ -20,17 +20,15 @@ float field_texel(uint first, ivec3 dims, ivec3 i) {
 
 const float kFarAway = 3.0e38;
 
-// One placed field at a world point: (x) a distance in world units that is
-// never more than the true one, for the march's steps; (y) the field's
-// trilinear value inside its box, kFarAway outside it, for clearances
-// (outside the box only bounds are known, and a loose bound darkens
-// penumbrae: the box's margin keeps every surface far enough from its
-// outside); (z) the world size of the field's voxel. Outside the box the
-// step's bound is the distance to what the field holds (its box less the
-// margin).
-vec3 field_distance(uint index, vec3 world) {
-  FieldInstance f = field_instances[index];
-  vec3 q = (f.world_to_field * vec4(world, 1.0)).xyz;
+// One placed field at a point q of its voxel space (the world point
+// world_to_field maps there): (x) a distance in world units that is never
+// more than the true one, for the march's steps; (y) the field's trilinear
+// value inside its box, kFarAway outside it, for clearances (outside the box
+// only bounds are known, and a loose bound darkens penumbrae: the box's
+// margin keeps every surface far enough from its outside); (z) the world size
+// of the field's voxel. Outside the box the step's bound is the distance to
+// what the field holds (its box less the margin).
+vec3 field_distance_at(FieldInstance f, vec3 q) {
   ivec3 dims = ivec3(f.texels.yzw);
   if (any(lessThan(q, vec3(0.0))) || any(greaterThan(q, vec3(dims)))) {
     float margin = f.scale.w;
@@ -48,6 +46,11 @@ vec3 field_distance(uint index, vec3 world) {
   float c11 = mix(field_texel(first, dims, ivec3(i0.x, i1.y, i1.z)), field_texel(first, dims, ivec3(i1.x, i1.y, i1.z)), w.x);
   float h = mix(mix(c00, c10, w.y), mix(c01, c11, w.y), w.z) * f.scale.x;
   return vec3(h, h, f.scale.z);
+}
+
+vec3 field_distance(uint index, vec3 world) {
+  FieldInstance f = field_instances[index];
+  return field_distance_at(f, (f.world_to_field * vec4(world, 1.0)).xyz);
 }
 
 // Gathers into nearby_fields the instances whose world box, grown by

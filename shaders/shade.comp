@@ -96,6 +96,8 @@ float visibility(vec3 origin, vec3 dir, float t_min, float t_max, float tan_radi
   bool escaping = escape > 0.0 && !unsigned_field;
   float segment_end = t;  // the fields near [t, segment_end] are gathered
   int nearby = 0;
+  FieldInstance only_field;  // when nearby is 1: that field, and the ray in its voxel space
+  vec3 field_origin, field_dir;
   for (int i = 0; i < int(pc.visibility.w) && t < t_max; ++i) {
     if (t >= segment_end) {
       segment_end = t_max;
@@ -111,8 +113,16 @@ float visibility(vec3 origin, vec3 dir, float t_min, float t_max, float tan_radi
         have_previous = false;
         continue;
       }
+      if (nearby == 1) {
+        // The segment's one field (the common case) stays in registers, the
+        // ray in its voxel space: each sample then reads only texels.
+        only_field = field_instances[nearby_fields[0]];
+        field_origin = (only_field.world_to_field * vec4(origin, 1.0)).xyz;
+        field_dir = mat3(only_field.world_to_field) * dir;
+      }
     }
-    vec3 sample_ = nearby_distance(origin + dir * t, nearby);
+    vec3 sample_ = nearby == 1 ? field_distance_at(only_field, field_origin + field_dir * t)
+                               : nearby_distance(origin + dir * t, nearby);
     float h = sample_.y, voxel = sample_.z;
     float epsilon = pc.march.x * voxel, max_step = pc.march.y * voxel;
     if (!jittered) {
@@ -124,10 +134,11 @@ float visibility(vec3 origin, vec3 dir, float t_min, float t_max, float tan_radi
       continue;
     }
     if (h >= kFarAway) {
-      // Outside every field's box: clear of every surface by at least a
-      // margin; step on by the bound.
+      // Outside every field's box: clear of every surface by the bound, and
+      // nothing there narrows the cone: step the whole bound, but no further
+      // than the segment whose fields were gathered.
       have_previous = false;
-      t += clamp(sample_.x, 0.5 * epsilon, max_step);
+      t = min(t + max(sample_.x, 0.5 * epsilon), max(segment_end, t + 0.5 * epsilon));
       continue;
     }
     if (escaping) {
@@ -164,8 +175,14 @@ float visibility(vec3 origin, vec3 dir, float t_min, float t_max, float tan_radi
     }
     previous_h = h;
     have_previous = true;
-    // Through the thickened surface in small steps, elsewhere sphere tracing capped at max_step.
-    step = clamp(abs(h), 0.5 * epsilon, max_step);
+    // Through the thickened surface in small steps, elsewhere sphere tracing
+    // capped at max_step, or at a third of the cone's radius where that is
+    // more: a wide cone (the sky's) resolves no finer than its own width (as
+    // cone-traced AO grows its steps), and a closest approach missed between
+    // samples that far apart moves the ratio by less than 1/6.
+    float cone_step = tan_radius * t * (1.0 / 3.0);
+    step = clamp(abs(h), 0.5 * epsilon, max(max_step, cone_step));
+    if (step > max_step) step = min(step, max(segment_end - t, max_step));  // (gathered fields only reach so far)
     t += step;
   }
   return tan_radius <= 0.0 ? 1.0 : disk_visible(ratio);
