@@ -34,6 +34,7 @@ uint64_t next_scene_id() {
 GpuScene::GpuScene(const vk::Context& context, const Scene& scene)
     : context_(context), id_(next_scene_id()), scene_(scene) {
   scene_.validate();
+  extents_ = rtsdf::mesh_extents(scene_);
   mesh_versions_.assign(scene_.meshes.size(), 0);
   for (uint32_t i = 0; i < scene_.instances.size(); ++i)
     if (scene_.instances[i].casts_shadow) casters_.push_back(i);
@@ -42,12 +43,12 @@ GpuScene::GpuScene(const vk::Context& context, const Scene& scene)
 }
 
 void GpuScene::update_bounds() {
-  bounds_ = casters_.empty() ? Bounds{} : scene_.world_bounds(casters_);
+  bounds_ = casters_.empty() ? Bounds{} : scene_.world_bounds(casters_, extents_);
 }
 
 void GpuScene::mark_changed(uint32_t instance) {
   if (!std::binary_search(casters_.begin(), casters_.end(), instance)) return;
-  const Bounds b = scene_.world_bounds({instance});
+  const Bounds b = scene_.world_bounds({instance}, extents_);
   if (b.is_empty()) return;  // an empty mesh
   changes_.region = changes_.any ? Bounds{glm::min(changes_.region.lo, b.lo), glm::max(changes_.region.hi, b.hi)} : b;
   changes_.any = true;
@@ -221,6 +222,7 @@ void GpuScene::set_mesh_positions(uint32_t mesh, const std::vector<glm::vec3>& p
   for (uint32_t i = 0; i < scene_.instances.size(); ++i)
     if (scene_.instances[i].mesh == mesh) mark_changed(i);  // the old shape
   scene_ = std::move(deformed);
+  extents_[mesh] = MeshExtent(scene_.meshes[mesh]);
   mesh_versions_[mesh]++;
   for (uint32_t i = 0; i < scene_.instances.size(); ++i)
     if (scene_.instances[i].mesh == mesh) mark_changed(i);  // the new one

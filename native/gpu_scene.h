@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "bvh.h"
+#include "mesh_extent.h"
 #include "scene.h"
 #include "vk/resources.h"
 
@@ -60,6 +61,8 @@ class GpuScene {
   // World bounds of the shadow casters, which the SDF grids are fitted to
   // (zero-sized when there are none).
   const Bounds& bounds() const { return bounds_; }
+  // Each mesh's extent (mesh_extent.h), current with set_mesh_positions.
+  const std::vector<MeshExtent>& mesh_extents() const { return extents_; }
   size_t triangle_count() const { return scene_.triangle_count(); }
 
   // What changed in the shadow casters since the last take_changes(): the
@@ -110,6 +113,7 @@ class GpuScene {
   std::vector<MeshTop> mesh_tops_;  // for mesh_rays(), made on first use (empty buffers: not yet)
   std::vector<uint32_t> casters_;  // instance indices
   Bounds bounds_;
+  std::vector<MeshExtent> extents_;  // one per mesh, for instance bounds
   Changes changes_;
   vk::Buffer positions_;
   vk::Buffer indices_;

@@ -191,8 +191,8 @@ void Renderer::begin(GpuScene& scene, const Camera& camera, const std::vector<Li
   const bool same_lights = gpu_lights.size() == lights_.size() &&
                            std::memcmp(gpu_lights.data(), lights_.data(), gpu_lights.size() * sizeof(gpu::GpuLight)) == 0;
   if (scene_changed || scene_ != &scene || !same_lights) {
-    scene.set_shadow_casters(find_shadow_casters(scene.scene(), lights));
-    sky_blockers_ = sky_blockers(scene.scene(), scene.shadow_casters(), gpu::kMaxSkyBlockers);
+    scene.set_shadow_casters(find_shadow_casters(scene.scene(), scene.mesh_extents(), lights));
+    sky_blockers_ = sky_blockers(scene.scene(), scene.mesh_extents(), scene.shadow_casters(), gpu::kMaxSkyBlockers);
   }
   if (scene_changed || scene_ != &scene || scene.shadow_casters() != casters_before ||
       settings.coarse_resolution != settings_.coarse_resolution ||

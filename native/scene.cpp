@@ -4,6 +4,7 @@
 #include <limits>
 
 #include "error.h"
+#include "mesh_extent.h"
 
 namespace rtsdf {
 
@@ -49,17 +50,22 @@ Bounds Scene::world_bounds() const {
 }
 
 Bounds Scene::world_bounds(const std::vector<uint32_t>& instance_indices) const {
+  // Only the meshes placed by these instances get an extent.
+  std::vector<MeshExtent> extents(meshes.size());
+  std::vector<uint8_t> built(meshes.size(), 0);
+  for (uint32_t i : instance_indices)
+    if (!built[instances[i].mesh]) extents[instances[i].mesh] = MeshExtent(meshes[instances[i].mesh]), built[instances[i].mesh] = 1;
+  return world_bounds(instance_indices, extents);
+}
+
+Bounds Scene::world_bounds(const std::vector<uint32_t>& instance_indices, const std::vector<MeshExtent>& extents) const {
   const float inf = std::numeric_limits<float>::infinity();
   Bounds bounds{glm::vec3(inf), glm::vec3(-inf)};
   for (uint32_t i : instance_indices) {
-    const Instance& instance = instances[i];
-    const Mesh& mesh = meshes[instance.mesh];
-    if (mesh.indices.empty()) continue;
-    for (uint32_t index : mesh.indices) {
-      glm::vec3 p = glm::vec3(instance.object_to_world * glm::vec4(mesh.positions[index], 1.0f));
-      bounds.lo = glm::min(bounds.lo, p);
-      bounds.hi = glm::max(bounds.hi, p);
-    }
+    const Bounds b = extents[instances[i].mesh].placed_bounds(instances[i].object_to_world);
+    if (b.is_empty()) continue;
+    bounds.lo = glm::min(bounds.lo, b.lo);
+    bounds.hi = glm::max(bounds.hi, b.hi);
   }
   return bounds;
 }

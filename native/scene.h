@@ -33,6 +33,8 @@ struct Bounds {
   bool is_empty() const { return glm::any(glm::greaterThan(lo, hi)); }
 };
 
+class MeshExtent;  // mesh_extent.h
+
 struct Scene {
   std::vector<Mesh> meshes;
   std::vector<Instance> instances;
@@ -46,6 +48,8 @@ struct Scene {
   Bounds world_bounds() const;
   // The same over some instances only (by index).
   Bounds world_bounds(const std::vector<uint32_t>& instance_indices) const;
+  // The same with the meshes' extents at hand (mesh_extents(*this)).
+  Bounds world_bounds(const std::vector<uint32_t>& instance_indices, const std::vector<MeshExtent>& extents) const;
 };
 
 // A scene holding one mesh once, untransformed.

@@ -15,42 +15,29 @@ struct Extent {
   float hi = -std::numeric_limits<float>::infinity();
 };
 
-// The instance's world vertices (each once, used by a triangle).
-std::vector<glm::vec3> world_vertices(const Scene& scene, const Instance& instance) {
-  const Mesh& mesh = scene.meshes[instance.mesh];
-  std::vector<uint8_t> used(mesh.positions.size(), 0);
-  for (uint32_t index : mesh.indices) used[index] = 1;
-  std::vector<glm::vec3> out;
-  for (size_t v = 0; v < mesh.positions.size(); ++v)
-    if (used[v]) out.emplace_back(instance.object_to_world * glm::vec4(mesh.positions[v], 1.0f));
-  return out;
-}
-
-Extent extent_along(const std::vector<glm::vec3>& points, glm::vec3 axis) {
-  Extent e;
-  for (const glm::vec3& p : points) {
-    const float s = glm::dot(p, axis);
-    e.lo = std::min(e.lo, s), e.hi = std::max(e.hi, s);
-  }
-  return e;
-}
-
-// Directions along which a flat instance may be thin: the world axes and the
-// normal of its largest triangle (for tilted planes).
-std::vector<glm::vec3> candidate_normals(const Scene& scene, const Instance& instance) {
-  std::vector<glm::vec3> normals{{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
-  const Mesh& mesh = scene.meshes[instance.mesh];
+// The normal of a mesh's largest triangle (object space, not normalized;
+// zero for a mesh without area).
+glm::vec3 largest_triangle_normal(const Mesh& mesh) {
   glm::vec3 largest(0.0f);
   float largest_area = 0.0f;
   for (size_t t = 0; t < mesh.triangle_count(); ++t) {
-    glm::vec3 corner[3];
-    for (int k = 0; k < 3; ++k)
-      corner[k] = glm::vec3(instance.object_to_world * glm::vec4(mesh.positions[mesh.indices[3 * t + k]], 1.0f));
-    const glm::vec3 n = glm::cross(corner[1] - corner[0], corner[2] - corner[0]);
+    const glm::vec3* p = mesh.positions.data();
+    const glm::vec3 a = p[mesh.indices[3 * t]], b = p[mesh.indices[3 * t + 1]], c = p[mesh.indices[3 * t + 2]];
+    const glm::vec3 n = glm::cross(b - a, c - a);
     const float area = glm::length(n);
-    if (area > largest_area) largest_area = area, largest = n / area;
+    if (area > largest_area) largest_area = area, largest = n;
   }
-  if (largest_area > 0.0f) normals.push_back(largest);
+  return largest;
+}
+
+// Directions along which a flat instance may be thin: the world axes and the
+// placed normal of its mesh's largest triangle (for tilted planes; a flat
+// mesh's triangles all share that normal, however it is placed).
+std::vector<glm::vec3> candidate_normals(glm::vec3 largest_triangle_normal, const glm::mat4& object_to_world) {
+  std::vector<glm::vec3> normals{{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+  const glm::vec3 placed = glm::transpose(glm::inverse(glm::mat3(object_to_world))) * largest_triangle_normal;
+  const float length = glm::length(placed);
+  if (length > 0.0f && std::isfinite(length)) normals.push_back(placed / length);
   return normals;
 }
 
@@ -69,37 +56,37 @@ bool lights_in_front(const std::vector<Light>& lights, glm::vec3 n, float offset
 }  // namespace
 
 std::vector<uint8_t> find_shadow_casters(const Scene& scene, const std::vector<Light>& lights) {
+  return find_shadow_casters(scene, mesh_extents(scene), lights);
+}
+
+std::vector<uint8_t> find_shadow_casters(const Scene& scene, const std::vector<MeshExtent>& extents,
+                                         const std::vector<Light>& lights) {
   const size_t count = scene.instances.size();
   std::vector<uint8_t> casters(count, 0);
-  std::vector<std::vector<glm::vec3>> vertices(count);
+  for (size_t i = 0; i < count; ++i)
+    casters[i] = scene.instances[i].casts_shadow && !extents[scene.instances[i].mesh].empty() ? 1 : 0;
+  // Each mesh's largest triangle, found once however many instances it has.
+  std::vector<glm::vec3> largest_normals;
+  for (const Mesh& mesh : scene.meshes) largest_normals.push_back(largest_triangle_normal(mesh));
   for (size_t i = 0; i < count; ++i) {
-    casters[i] = scene.instances[i].casts_shadow ? 1 : 0;
-    if (casters[i]) vertices[i] = world_vertices(scene, scene.instances[i]);
-  }
-  for (size_t i = 0; i < count; ++i) {
-    if (!casters[i] || vertices[i].empty()) continue;
-    const Bounds box = [&] {
-      Bounds b{glm::vec3(std::numeric_limits<float>::infinity()), glm::vec3(-std::numeric_limits<float>::infinity())};
-      for (const glm::vec3& p : vertices[i]) b.lo = glm::min(b.lo, p), b.hi = glm::max(b.hi, p);
-      return b;
-    }();
+    if (!casters[i]) continue;
+    const Instance& instance = scene.instances[i];
+    const MeshExtent& extent = extents[instance.mesh];
+    const Bounds box = extent.placed_bounds(instance.object_to_world);
     const float size = glm::length(box.extent());
     const float tolerance = 1e-3f * size;  // objects resting on the ground may touch it or sink in a little
-    for (glm::vec3 n : candidate_normals(scene, scene.instances[i])) {
-      const Extent own = extent_along(vertices[i], n);
-      if (own.hi - own.lo > kFlatness * size) continue;
+    for (glm::vec3 n : candidate_normals(largest_normals[instance.mesh], instance.object_to_world)) {
+      const glm::vec2 own = extent.placed_extent(instance.object_to_world, n);
+      if (own.y - own.x > kFlatness * size) continue;
       for (float side : {1.0f, -1.0f}) {
         // The outer face: the plane through the flat instance's extreme point along side * n.
         const glm::vec3 outward = side * n;
-        const float offset = side > 0.0f ? own.hi : -own.lo;
+        const float offset = side > 0.0f ? own.y : -own.x;
         bool others_in_front = true;
         for (size_t j = 0; j < count && others_in_front; ++j) {
-          if (j == i || !scene.instances[j].casts_shadow) continue;  // order-independent: the flags, not the result
-          for (const glm::vec3& p : vertices[j])
-            if (glm::dot(p, outward) - offset < -tolerance) {
-              others_in_front = false;
-              break;
-            }
+          const Instance& other = scene.instances[j];
+          if (j == i || !other.casts_shadow || extents[other.mesh].empty()) continue;  // the flags, not the result
+          others_in_front = extents[other.mesh].placed_extent(other.object_to_world, outward).x - offset >= -tolerance;
         }
         if (others_in_front && lights_in_front(lights, outward, offset)) {
           casters[i] = 0;
@@ -112,11 +99,12 @@ std::vector<uint8_t> find_shadow_casters(const Scene& scene, const std::vector<L
   return casters;
 }
 
-std::vector<Bounds> sky_blockers(const Scene& scene, const std::vector<uint32_t>& casters, size_t max_count) {
+std::vector<Bounds> sky_blockers(const Scene& scene, const std::vector<MeshExtent>& extents,
+                                 const std::vector<uint32_t>& casters, size_t max_count) {
   std::vector<std::pair<float, Bounds>> found;  // (area, box)
   for (uint32_t i = 0; i < scene.instances.size(); ++i) {
-    if (!scene.instances[i].casts_shadow || std::find(casters.begin(), casters.end(), i) != casters.end()) continue;
-    const Bounds box = scene.world_bounds({i});
+    if (!scene.instances[i].casts_shadow || std::binary_search(casters.begin(), casters.end(), i)) continue;
+    const Bounds box = extents[scene.instances[i].mesh].placed_bounds(scene.instances[i].object_to_world);
     if (box.is_empty()) continue;
     const glm::vec3 e = box.extent();
     const float size = glm::max(e.x, glm::max(e.y, e.z));

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "lights.h"
+#include "mesh_extent.h"
 #include "scene.h"
 
 namespace rtsdf {
@@ -21,6 +22,9 @@ namespace rtsdf {
 //   room is not.
 // Call scene.validate() first.
 std::vector<uint8_t> find_shadow_casters(const Scene& scene, const std::vector<Light>& lights);
+// The same with the scene's mesh extents at hand (mesh_extents(scene)).
+std::vector<uint8_t> find_shadow_casters(const Scene& scene, const std::vector<MeshExtent>& extents,
+                                         const std::vector<Light>& lights);
 
 // The world boxes of the instances left out for being flat (casts_shadow on,
 // not among `casters`), which still hide the sky behind them: the world
@@ -28,6 +32,8 @@ std::vector<uint8_t> find_shadow_casters(const Scene& scene, const std::vector<L
 // otherwise show the sky below it to every wall and object above). Only
 // boxes thin along a world axis count (a tilted sheet's box would hide far
 // too much); at most `max_count`, the largest first.
-std::vector<Bounds> sky_blockers(const Scene& scene, const std::vector<uint32_t>& casters, size_t max_count);
+// `casters` ascending.
+std::vector<Bounds> sky_blockers(const Scene& scene, const std::vector<MeshExtent>& extents,
+                                 const std::vector<uint32_t>& casters, size_t max_count);
 
 }  // namespace rtsdf

@@ -104,18 +104,18 @@ TEST(ShadowCasters, SkyBlockersAreTheGroundsLeftOut) {
   Scene scene;
   scene.meshes = {reference::sheet({-10, -10}, {10, 10}, 0.0f), reference::box({-0.5f, -0.5f, 0.0f}, {0.5f, 0.5f, 1.0f})};
   scene.instances = {{0, glm::mat4(1.0f)}, {1, glm::mat4(1.0f)}};
-  std::vector<Bounds> blockers = sky_blockers(scene, {1}, 8);
+  std::vector<Bounds> blockers = sky_blockers(scene, mesh_extents(scene), {1}, 8);
   ASSERT_EQ(blockers.size(), 1u);
   EXPECT_EQ(blockers[0].lo, glm::vec3(-10, -10, 0));
   EXPECT_EQ(blockers[0].hi, glm::vec3(10, 10, 0));
-  EXPECT_TRUE(sky_blockers(scene, {0, 1}, 8).empty()) << "a ground in the SDF blocks through the SDF";
+  EXPECT_TRUE(sky_blockers(scene, mesh_extents(scene), {0, 1}, 8).empty()) << "a ground in the SDF blocks through the SDF";
   scene.instances[0].casts_shadow = false;
-  EXPECT_TRUE(sky_blockers(scene, {1}, 8).empty()) << "an object that casts no shadow hides no sky";
+  EXPECT_TRUE(sky_blockers(scene, mesh_extents(scene), {1}, 8).empty()) << "an object that casts no shadow hides no sky";
   // A sheet tilted 45 degrees: its box is no thin slab.
   scene.instances[0].casts_shadow = true;
   scene.instances[0].object_to_world = glm::rotate(glm::mat4(1.0f), glm::radians(45.0f), glm::vec3(1, 0, 0));
-  EXPECT_TRUE(sky_blockers(scene, {1}, 8).empty());
-  EXPECT_TRUE(sky_blockers(scene, {1}, 0).empty());
+  EXPECT_TRUE(sky_blockers(scene, mesh_extents(scene), {1}, 8).empty());
+  EXPECT_TRUE(sky_blockers(scene, mesh_extents(scene), {1}, 0).empty());
 }
 
 }  // namespace
