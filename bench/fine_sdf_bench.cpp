@@ -2,7 +2,10 @@
 // whole fine grid, in the same run: by fine resolution, rays per texel and
 // triangle count. Medians over frames after one warm-up frame.
 //
-//   rtsdf_bench_fine [--frames N] [--quick]
+//   rtsdf_bench_fine [--frames N] [--quick] [--mesh PATH]
+//
+// --mesh adds a mesh of one's own (any format Assimp reads), e.g. a
+// third-party CAD model, at the first case's settings.
 #include <cstdio>
 #include <cstring>
 #include <map>
@@ -29,11 +32,13 @@ struct Case {
 int main(int argc, char** argv) {
   int frames = 5;
   bool quick = false;
+  std::string extra_mesh;
   for (int i = 1; i < argc; ++i) {
     if (!std::strcmp(argv[i], "--frames") && i + 1 < argc) frames = std::max(1, std::atoi(argv[++i]));
     else if (!std::strcmp(argv[i], "--quick")) quick = true;
+    else if (!std::strcmp(argv[i], "--mesh") && i + 1 < argc) extra_mesh = argv[++i];
     else {
-      std::printf("usage: rtsdf_bench_fine [--frames N] [--quick]\n");
+      std::printf("usage: rtsdf_bench_fine [--frames N] [--quick] [--mesh PATH]\n");
       return std::strcmp(argv[i], "--help") ? 2 : 0;
     }
   }
@@ -43,6 +48,7 @@ int main(int argc, char** argv) {
                              {small, 128, 8}, {large, 128, 8},                      // triangle count
                              {medium, 128, 8, 2}, {medium, 128, 8, 4}, {medium, 128, 8, 8}};  // interleave
   if (quick) cases = {{medium, 128, 8}, {small, 128, 8}, {medium, 128, 8, 4}};
+  if (!extra_mesh.empty()) cases.push_back({extra_mesh, 128, 8});
   try {
     rtsdf::vk::Context context;
     std::printf("device %s; coarse 64, d = 2 coarse voxels, alpha 0.9; median of %d frames after one warm-up\n",
