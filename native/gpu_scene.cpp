@@ -212,13 +212,28 @@ void GpuScene::set_transforms(const std::vector<glm::mat4>& object_to_world) {
 void GpuScene::set_mesh_positions(uint32_t mesh, const std::vector<glm::vec3>& positions) {
   if (mesh >= scene_.meshes.size() || positions.size() != scene_.meshes[mesh].positions.size())
     throw Error("set_mesh_positions: the vertex count must stay the same");
+  Mesh geometry = scene_.meshes[mesh];
+  geometry.positions = positions;
+  set_mesh(mesh, std::move(geometry));
+}
+
+void GpuScene::set_mesh(uint32_t mesh, Mesh geometry) {
+  if (mesh >= scene_.meshes.size()) throw Error("set_mesh: there is no mesh " + std::to_string(mesh));
+  Mesh& current = scene_.meshes[mesh];
+  geometry.name = current.name;
   // Blender reports animated objects' geometry as updated on every frame
-  // change, deformed or not: the same positions again are no deformation,
-  // and keep the mesh's field.
-  if (positions == scene_.meshes[mesh].positions) return;
+  // change, deformed or not: the same shape again is no deformation, and
+  // keeps the mesh's field (new normals alone only reach the rasterizer).
+  const bool shape_changed = geometry.positions != current.positions || geometry.indices != current.indices;
+  if (!shape_changed && geometry.normals == current.normals) return;
   Scene deformed = scene_;
-  deformed.meshes[mesh].positions = positions;
+  deformed.meshes[mesh] = std::move(geometry);
   deformed.validate();
+  if (!shape_changed) {
+    scene_ = std::move(deformed);
+    upload_raster();
+    return;
+  }
   for (uint32_t i = 0; i < scene_.instances.size(); ++i)
     if (scene_.instances[i].mesh == mesh) mark_changed(i);  // the old shape
   scene_ = std::move(deformed);

@@ -44,6 +44,10 @@ class GpuScene {
   void set_transforms(const std::vector<glm::mat4>& object_to_world);
   // A deforming mesh (same triangles, new positions): only its own BVH is rebuilt.
   void set_mesh_positions(uint32_t mesh, const std::vector<glm::vec3>& positions);
+  // A mesh's new geometry in its place (its name kept): positions, triangles
+  // and normals, in any number (a deformed quad may split along its other
+  // diagonal). Only its own BVH is rebuilt; nothing at all for the same geometry.
+  void set_mesh(uint32_t mesh, Mesh geometry);
 
   const vk::Buffer& positions() const { return positions_; }
   const vk::Buffer& indices() const { return indices_; }
@@ -61,7 +65,7 @@ class GpuScene {
   // World bounds of the shadow casters, which the SDF grids are fitted to
   // (zero-sized when there are none).
   const Bounds& bounds() const { return bounds_; }
-  // Each mesh's extent (mesh_extent.h), current with set_mesh_positions.
+  // Each mesh's extent (mesh_extent.h), current with set_mesh.
   const std::vector<MeshExtent>& mesh_extents() const { return extents_; }
   size_t triangle_count() const { return scene_.triangle_count(); }
 
@@ -85,8 +89,8 @@ class GpuScene {
   RayTargets mesh_rays(uint32_t mesh);
   // Object-space bounds of a mesh's vertices (empty for a mesh without any).
   Bounds mesh_bounds(uint32_t mesh) const;
-  // Counts the geometry changes of a mesh (set_mesh_positions with other
-  // positions than it has), from 0.
+  // Counts the shape changes of a mesh (set_mesh or set_mesh_positions with
+  // other positions or triangles than it has), from 0.
   uint64_t mesh_version(uint32_t mesh) const { return mesh_versions_.at(mesh); }
   // Tells this scene from any other made in the process, even at the same address.
   uint64_t id() const { return id_; }

@@ -47,7 +47,11 @@ GridSpec keep_or_fit_grid(const GridSpec* current, const Bounds& bounds, int res
         current->voxel_size <= tight.voxel_size * (1.0f + 2.0f * slack))
       return *current;
   }
-  const glm::vec3 room = 0.5f * slack * bounds.extent();
+  // The same room along every axis: what moves or deforms (a walking
+  // character's limbs) goes as far along the bounds' thin axes as along their
+  // long one, and room in proportion left a thin axis none to speak of.
+  const glm::vec3 extent = bounds.extent();
+  const glm::vec3 room(0.5f * slack * std::max(extent.x, std::max(extent.y, extent.z)));
   return fit_grid(Bounds{bounds.lo - room, bounds.hi + room}, resolution);
 }
 

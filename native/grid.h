@@ -31,8 +31,8 @@ GridSpec fit_grid(const Bounds& bounds, int resolution);
 // The grid for geometry within `bounds` that moves or deforms: `current`
 // (may be null) while the geometry stays inside it, clear of its margin,
 // and it is not much coarser than a tight fit; otherwise a grid fitted with
-// `slack` x the bounds' extent of room around them (0: tight), so that it
-// can stay for a while. A grid that stays keeps its fine SDF's history.
+// `slack` x the bounds' longest extent of room around them, along every axis
+// (0: tight), so that it can stay for a while. A grid that stays keeps its fine SDF's history.
 GridSpec keep_or_fit_grid(const GridSpec* current, const Bounds& bounds, int resolution, float slack);
 
 }  // namespace rtsdf

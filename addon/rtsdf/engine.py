@@ -93,9 +93,9 @@ class RTSDFRenderEngine(bpy.types.RenderEngine):
 
     def view_update(self, context, depsgraph):
         """Blender calls this after any change: only what changed goes to the
-        native side (new transforms, new vertex positions of deformed meshes;
-        anything else, e.g. objects added or materials changed, a new upload
-        of the meshes already read)."""
+        native side (new transforms, the new geometry of deformed meshes in
+        place; anything else, e.g. objects added or materials changed, a new
+        upload of the meshes already read)."""
         try:
             self.sync_view(depsgraph)
             self.view_error = None
@@ -112,20 +112,18 @@ class RTSDFRenderEngine(bpy.types.RenderEngine):
         first = self.signature is None
         stale = None if first else {update.id.original.name for update in depsgraph.updates
                                     if isinstance(update.id, bpy.types.Object) and update.is_updated_geometry}
-        shapes_before = {key: (len(a["positions"]), a["indices"]) for key, a in self.mesh_cache.items() if a}
         meshes, instances = sync.geometry(depsgraph, self.mesh_cache, stale)
         signature = ([m["key"] for m in meshes],
                      [(i["mesh"], tuple(i["color"]), i["casts_shadow"]) for i in instances])
         matrices = [i["matrix"] for i in instances]
-        same_topology = all(m["key"] in shapes_before and shapes_before[m["key"]][0] == len(m["positions"])
-                            and np.array_equal(shapes_before[m["key"]][1], m["indices"])
-                            for m in meshes if stale is None or m["key"] in stale)
-        if first or signature != self.signature or not same_topology:
+        if first or signature != self.signature:
             self.viewport.sync({"meshes": meshes, "instances": instances})
         else:
+            # In place, whatever changed: a deformed quad may split along its
+            # other diagonal, and smooth normals follow the deformation.
             for index, mesh in enumerate(meshes):
                 if mesh["key"] in stale:
-                    self.viewport.set_mesh(index, mesh["positions"])
+                    self.viewport.set_mesh_geometry(index, mesh)
             if any(not np.array_equal(a, b) for a, b in zip(matrices, self.matrices)):
                 self.viewport.set_transforms(matrices)
         self.signature, self.matrices = signature, matrices

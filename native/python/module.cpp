@@ -99,22 +99,25 @@ rtsdf::LightType light_type(const std::string& name) {
   throw rtsdf::Error("unknown light type '" + name + "'");
 }
 
+// A mesh as sync's "meshes" entries give it: positions, indices, optional name and normals.
+rtsdf::Mesh mesh_of(const py::dict& d) {
+  rtsdf::Mesh mesh = mesh_from_arrays(
+      d["positions"].cast<py::array_t<float, py::array::c_style | py::array::forcecast>>(),
+      d["indices"].cast<py::array_t<uint32_t, py::array::c_style | py::array::forcecast>>());
+  mesh.name = get<std::string>(d, "name", "mesh");
+  if (d.contains("normals")) {
+    auto normals = d["normals"].cast<py::array_t<float, py::array::c_style | py::array::forcecast>>();
+    if (normals.ndim() != 2 || normals.shape(1) != 3) throw rtsdf::Error("normals must have shape (N, 3)");
+    for (py::ssize_t i = 0; i < normals.shape(0); ++i)
+      mesh.normals.emplace_back(normals.at(i, 0), normals.at(i, 1), normals.at(i, 2));
+  }
+  return mesh;
+}
+
 rtsdf::Scene scene_of(const py::dict& scene_desc) {
   rtsdf::Scene scene;
-  for (const py::handle& mesh_desc : scene_desc["meshes"].cast<py::list>()) {
-    py::dict d = mesh_desc.cast<py::dict>();
-    rtsdf::Mesh mesh = mesh_from_arrays(
-        d["positions"].cast<py::array_t<float, py::array::c_style | py::array::forcecast>>(),
-        d["indices"].cast<py::array_t<uint32_t, py::array::c_style | py::array::forcecast>>());
-    mesh.name = get<std::string>(d, "name", "mesh");
-    if (d.contains("normals")) {
-      auto normals = d["normals"].cast<py::array_t<float, py::array::c_style | py::array::forcecast>>();
-      if (normals.ndim() != 2 || normals.shape(1) != 3) throw rtsdf::Error("normals must have shape (N, 3)");
-      for (py::ssize_t i = 0; i < normals.shape(0); ++i)
-        mesh.normals.emplace_back(normals.at(i, 0), normals.at(i, 1), normals.at(i, 2));
-    }
-    scene.meshes.push_back(std::move(mesh));
-  }
+  for (const py::handle& mesh_desc : scene_desc["meshes"].cast<py::list>())
+    scene.meshes.push_back(mesh_of(mesh_desc.cast<py::dict>()));
   for (const py::handle& instance_desc : scene_desc["instances"].cast<py::list>()) {
     py::dict d = instance_desc.cast<py::dict>();
     rtsdf::Instance instance;
@@ -235,6 +238,14 @@ class Viewport {
       points.emplace_back(positions.at(i, 0), positions.at(i, 1), positions.at(i, 2));
     py::gil_scoped_release release;
     scene_for_update().set_mesh_positions(mesh, points);
+    changed_ = true;
+  }
+
+  // new geometry of one mesh (as sync's meshes give it), in its place.
+  void set_mesh_geometry(uint32_t mesh, const py::dict& mesh_desc) {
+    rtsdf::Mesh geometry = mesh_of(mesh_desc);
+    py::gil_scoped_release release;
+    scene_for_update().set_mesh(mesh, std::move(geometry));
     changed_ = true;
   }
 
@@ -428,6 +439,9 @@ PYBIND11_MODULE(rtsdf_native, m) {
            "A 4x4 matrix for every instance, in sync's order (only the top-level BVH is rebuilt).")
       .def("set_mesh", &Viewport::set_mesh, py::arg("mesh"), py::arg("positions"),
            "New vertex positions (N, 3) of mesh `mesh`, same vertex count and triangles.")
+      .def("set_mesh_geometry", &Viewport::set_mesh_geometry, py::arg("mesh"), py::arg("geometry"),
+           "New geometry of mesh `mesh` (a dict as sync's meshes: positions, indices, optional normals), in any "
+           "number of vertices and triangles; the same geometry again changes nothing.")
       .def("fine_sdf", &Viewport::fine_sdf, py::arg("mesh") = 0,
            "The fine SDF as the last draw left it: {space, origin, voxel_size, distance (z, y, x) as float32}: "
            "mesh `mesh`'s own field in object space (rtsdf), else the whole scene's in world space; None before "

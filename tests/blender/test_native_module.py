@@ -95,6 +95,16 @@ class NativeModuleInBlender(unittest.TestCase):
         viewport.set_transforms([eye])
         self.assertEqual(viewport.draw(view, settings)["stats"]["last_frame_traced_texels"], 0, "refined: moves trace nothing")
 
+        # New geometry in place: the same again changes nothing; triangles
+        # split along other diagonals rebuild the cube's field.
+        viewport.set_mesh_geometry(0, scene["meshes"][0])
+        self.assertEqual(viewport.draw(view, settings)["stats"]["fields_regenerated"], 0)
+        flipped = dict(scene["meshes"][0], indices=np.array([[0, 2, 3], [0, 3, 1], [4, 5, 7], [4, 7, 6], [0, 1, 5],
+                                                             [0, 5, 4], [2, 6, 7], [2, 7, 3], [0, 4, 6], [0, 6, 2],
+                                                             [1, 3, 7], [1, 7, 5]], np.uint32))
+        viewport.set_mesh_geometry(0, flipped)
+        self.assertEqual(viewport.draw(view, settings)["stats"]["fields_regenerated"], 1)
+
     def test_bad_input_raises(self):
         with self.assertRaises(rtsdf_native.Error):
             rtsdf_native.coarse_sdf(np.zeros((3, 3), np.float32), np.zeros((0, 3), np.uint32), 32, 0.5)

@@ -155,6 +155,39 @@ TEST_F(ObjectFieldsTest, DeformationRebuildsOnlyThatMesh) {
   EXPECT_GT(renderer.stats().last_frame_traced_texels, 0u) << "and refined";
 }
 
+// New geometry in place: the box's quads split along their other diagonals
+// (as Blender retriangulates a bending quad) and new normals.
+TEST_F(ObjectFieldsTest, NewTrianglesReplaceTheMeshInPlace) {
+  Scene scene = sphere_box_ground();
+  GpuScene gpu_scene(context(), scene);
+  const RenderSettings settings = viewport_settings();
+  Renderer renderer(context());
+  renderer.begin(gpu_scene, top_view(3.0f), {overhead_sun()}, glm::vec3(0.1f), 64, 64, settings, true);
+  run_until_still(renderer);
+  const uint64_t scene_id = gpu_scene.id();
+
+  Mesh box = scene.meshes[1];
+  box.normals.assign(box.positions.size(), glm::vec3(0, 0, 1));
+  gpu_scene.set_mesh(1, box);
+  EXPECT_EQ(gpu_scene.mesh_version(1), 0u) << "new normals alone are no new shape";
+
+  // Each quad (two triangles a b c, a c d) split along b d instead.
+  for (size_t t = 0; t + 5 < box.indices.size(); t += 6) {
+    const uint32_t a = box.indices[t], b = box.indices[t + 1], c = box.indices[t + 2], d = box.indices[t + 5];
+    box.indices[t] = a, box.indices[t + 1] = b, box.indices[t + 2] = d;
+    box.indices[t + 3] = b, box.indices[t + 4] = c, box.indices[t + 5] = d;
+  }
+  box.indices.resize(box.indices.size() - 3);  // and one triangle fewer: any count goes
+  gpu_scene.set_mesh(1, box);
+  EXPECT_EQ(gpu_scene.mesh_version(1), 1u);
+  EXPECT_EQ(gpu_scene.id(), scene_id);
+  EXPECT_EQ(gpu_scene.scene().meshes[1].triangle_count(), box.triangle_count());
+  renderer.begin(gpu_scene, top_view(3.0f), {overhead_sun()}, glm::vec3(0.1f), 64, 64, settings, true);
+  EXPECT_EQ(renderer.stats().fields_regenerated, 1) << "only the box's field is rebuilt";
+  renderer.add_frame();
+  EXPECT_GT(renderer.stats().last_frame_traced_texels, 0u);
+}
+
 // A scaled sphere's shadow against the same ellipsoid baked into the mesh
 // (exact distances): the conservative scale loses no shadow.
 TEST_F(ObjectFieldsTest, NonUniformScaleLosesNoShadow) {
