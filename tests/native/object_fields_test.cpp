@@ -133,23 +133,27 @@ TEST_F(ObjectFieldsTest, InstancesShareOneField) {
   EXPECT_GT(dark, 100 * 3);
 }
 
+// (Re)starts a viewport-like render of `gpu_scene` from above.
+void begin_from_above(Renderer& renderer, GpuScene& gpu_scene) {
+  renderer.begin(gpu_scene, top_view(3.0f), {overhead_sun()}, glm::vec3(0.1f), 64, 64, viewport_settings(), true);
+}
+
 TEST_F(ObjectFieldsTest, DeformationRebuildsOnlyThatMesh) {
   Scene scene = sphere_box_ground();
   GpuScene gpu_scene(context(), scene);
-  const RenderSettings settings = viewport_settings();
   Renderer renderer(context());
-  renderer.begin(gpu_scene, top_view(3.0f), {overhead_sun()}, glm::vec3(0.1f), 64, 64, settings, true);
+  begin_from_above(renderer, gpu_scene);
   run_until_still(renderer);
   // The same positions again (what Blender sends for an animated object on
   // every frame change) are no deformation.
   gpu_scene.set_mesh_positions(0, scene.meshes[0].positions);
   EXPECT_EQ(gpu_scene.mesh_version(0), 0u);
-  renderer.begin(gpu_scene, top_view(3.0f), {overhead_sun()}, glm::vec3(0.1f), 64, 64, settings, true);
+  begin_from_above(renderer, gpu_scene);
   EXPECT_EQ(renderer.stats().fields_regenerated, 0);
   std::vector<glm::vec3> grown = scene.meshes[0].positions;
   for (glm::vec3& p : grown) p *= 1.2f;
   gpu_scene.set_mesh_positions(0, grown);
-  renderer.begin(gpu_scene, top_view(3.0f), {overhead_sun()}, glm::vec3(0.1f), 64, 64, settings, true);
+  begin_from_above(renderer, gpu_scene);
   EXPECT_EQ(renderer.stats().fields_regenerated, 1) << "only the deformed mesh's field is rebuilt";
   renderer.add_frame();
   EXPECT_GT(renderer.stats().last_frame_traced_texels, 0u) << "and refined";
@@ -160,9 +164,8 @@ TEST_F(ObjectFieldsTest, DeformationRebuildsOnlyThatMesh) {
 TEST_F(ObjectFieldsTest, NewTrianglesReplaceTheMeshInPlace) {
   Scene scene = sphere_box_ground();
   GpuScene gpu_scene(context(), scene);
-  const RenderSettings settings = viewport_settings();
   Renderer renderer(context());
-  renderer.begin(gpu_scene, top_view(3.0f), {overhead_sun()}, glm::vec3(0.1f), 64, 64, settings, true);
+  begin_from_above(renderer, gpu_scene);
   run_until_still(renderer);
   const uint64_t scene_id = gpu_scene.id();
 
@@ -182,7 +185,7 @@ TEST_F(ObjectFieldsTest, NewTrianglesReplaceTheMeshInPlace) {
   EXPECT_EQ(gpu_scene.mesh_version(1), 1u);
   EXPECT_EQ(gpu_scene.id(), scene_id);
   EXPECT_EQ(gpu_scene.scene().meshes[1].triangle_count(), box.triangle_count());
-  renderer.begin(gpu_scene, top_view(3.0f), {overhead_sun()}, glm::vec3(0.1f), 64, 64, settings, true);
+  begin_from_above(renderer, gpu_scene);
   EXPECT_EQ(renderer.stats().fields_regenerated, 1) << "only the box's field is rebuilt";
   renderer.add_frame();
   EXPECT_GT(renderer.stats().last_frame_traced_texels, 0u);
