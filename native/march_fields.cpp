@@ -42,13 +42,23 @@ glm::vec2 singular_value_range(const glm::mat3& m) {
 
 MarchFields::MarchFields(const vk::Context& context) : context_(context) {}
 
-bool MarchFields::set_layout(const std::vector<GridSpec>& grids, const std::vector<Bounds>& contents) {
-  if (contents.size() != grids.size()) throw Error("MarchFields: one content box per field");
+bool MarchFields::set_layout(const std::vector<GridSpec>& grids, const std::vector<Bounds>& contents,
+                             const std::vector<float>& rooms) {
+  if (contents.size() != grids.size() || (!rooms.empty() && rooms.size() != grids.size()))
+    throw Error("MarchFields: one content box (and room) per field");
   margins_.clear();
+  box_lo_.clear();
+  box_hi_.clear();
   for (size_t i = 0; i < grids.size(); ++i) {
-    const glm::vec3 top = grids[i].origin + glm::vec3(grids[i].dims) * grids[i].voxel_size;
-    const glm::vec3 room = glm::min(contents[i].lo - grids[i].origin, top - contents[i].hi);
-    margins_.push_back(std::max(0.0f, std::min(room.x, std::min(room.y, room.z)) / grids[i].voxel_size));
+    const glm::vec3 dims(grids[i].dims);
+    const glm::vec3 content_lo = (contents[i].lo - grids[i].origin) / grids[i].voxel_size;
+    const glm::vec3 content_hi = (contents[i].hi - grids[i].origin) / grids[i].voxel_size;
+    const glm::vec3 lo = rooms.empty() ? glm::vec3(0.0f) : glm::clamp(content_lo - rooms[i], glm::vec3(0.0f), dims);
+    const glm::vec3 hi = rooms.empty() ? dims : glm::clamp(content_hi + rooms[i], glm::vec3(0.0f), dims);
+    const glm::vec3 room = glm::min(content_lo - lo, hi - content_hi);
+    margins_.push_back(std::max(0.0f, std::min(room.x, std::min(room.y, room.z))));
+    box_lo_.push_back(lo);
+    box_hi_.push_back(hi);
   }
   bool same = grids.size() == grids_.size() && texels_;
   for (size_t i = 0; same && i < grids.size(); ++i) same = grids[i].dims == grids_[i].dims;
@@ -111,13 +121,15 @@ void MarchFields::place(const std::vector<Placement>& placements) {
     record.scale = glm::vec4(stretch.x, stretch.x * grid.voxel_size, stretch.y * grid.voxel_size,
                              margins_[placement.field]);
     record.texels = glm::uvec4(first_texel_[placement.field], glm::uvec3(grid.dims));
+    record.box_lo = glm::vec4(box_lo_[placement.field], 0.0f);
+    record.box_hi = glm::vec4(box_hi_[placement.field], 0.0f);
     records.push_back(record);
     largest_voxel_ = std::max(largest_voxel_, record.scale.z);
     Aabb box;
-    const glm::vec3 hi = grid.origin + glm::vec3(grid.dims) * grid.voxel_size;
+    const glm::vec3 lo = grid.origin + box_lo_[placement.field] * grid.voxel_size;
+    const glm::vec3 hi = grid.origin + box_hi_[placement.field] * grid.voxel_size;
     for (int corner = 0; corner < 8; ++corner) {
-      const glm::vec3 p(corner & 1 ? hi.x : grid.origin.x, corner & 2 ? hi.y : grid.origin.y,
-                        corner & 4 ? hi.z : grid.origin.z);
+      const glm::vec3 p(corner & 1 ? hi.x : lo.x, corner & 2 ? hi.y : lo.y, corner & 4 ? hi.z : lo.z);
       box.grow(glm::vec3(placement.object_to_world * glm::vec4(p, 1.0f)));
     }
     boxes.push_back(box);

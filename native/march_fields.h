@@ -25,12 +25,14 @@ class MarchFields {
   explicit MarchFields(const vk::Context& context);
 
   // Lays the fields out in the pool, one per grid (the grids of their own
-  // spaces), each holding surfaces within `contents` (same order and space):
-  // the march knows nothing lies in the margin between. Keeps the pool (and
-  // what was copied into it) when the dims are the same as before; returns
-  // whether it was laid out anew, in which case every field must be copied
-  // in again.
-  bool set_layout(const std::vector<GridSpec>& grids, const std::vector<Bounds>& contents);
+  // spaces), each holding surfaces within `contents` (same order and space).
+  // The march reads a field within its content grown by `rooms` voxels (one
+  // per field; none: the whole grid), as far as the grid goes: it knows
+  // nothing lies in the margin between. Keeps the pool (and what was copied
+  // into it) when the dims are the same as before; returns whether it was
+  // laid out anew, in which case every field must be copied in again.
+  bool set_layout(const std::vector<GridSpec>& grids, const std::vector<Bounds>& contents,
+                  const std::vector<float>& rooms = {});
   // Records a copy of field `field`'s distances (an r32f image of its grid's
   // dims, in GENERAL layout) into the pool.
   void record_copy(VkCommandBuffer cmd, uint32_t field, const vk::Image& distance) const;
@@ -62,6 +64,7 @@ class MarchFields {
   const vk::Context& context_;
   std::vector<GridSpec> grids_;
   std::vector<float> margins_;  // voxels, per field
+  std::vector<glm::vec3> box_lo_, box_hi_;  // what the march reads of each field, in its voxels
   std::vector<uint32_t> first_texel_;
   vk::Buffer texels_;
   vk::Buffer instances_;

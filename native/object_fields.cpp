@@ -127,9 +127,16 @@ void ObjectFields::sync(GpuScene& scene, const ObjectFieldSettings& settings, Ma
   }
   fields_ = std::move(fields);
 
+  // The march reads each field within the margin a tight grid would have
+  // around its mesh: a deforming mesh's room holds only far values.
   std::vector<GridSpec> grids;
-  for (const Field& f : fields_) grids.push_back(f.fine_grid);
-  if (march.set_layout(grids, bounds))
+  std::vector<float> rooms;
+  for (const Field& f : fields_) {
+    grids.push_back(f.fine_grid);
+    const int coarse_longest = std::max(f.coarse_grid.dims.x, std::max(f.coarse_grid.dims.y, f.coarse_grid.dims.z));
+    rooms.push_back(float(margin_voxels(coarse_longest)) * f.coarse_grid.voxel_size / f.fine_grid.voxel_size);
+  }
+  if (march.set_layout(grids, bounds, rooms))
     for (Field& f : fields_) f.copied = false;
 
   // Place every caster instance of a mesh with a field.

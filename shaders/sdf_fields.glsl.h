@@ -26,13 +26,15 @@ const float kFarAway = 3.0e38;
 // value inside its box, kFarAway outside it, for clearances (outside the box
 // only bounds are known, and a loose bound darkens penumbrae: the box's
 // margin keeps every surface far enough from its outside); (z) the world size
-// of the field's voxel. Outside the box the step's bound is the distance to
-// what the field holds (its box less the margin).
+// of the field's voxel. The box is the part of the grid around what the field
+// holds (a grid with room for motion reads only far values in the rest).
+// Outside the box the step's bound is the distance to what the field holds
+// (its box less the margin).
 vec3 field_distance_at(FieldInstance f, vec3 q) {
   ivec3 dims = ivec3(f.texels.yzw);
-  if (any(lessThan(q, vec3(0.0))) || any(greaterThan(q, vec3(dims)))) {
+  if (any(lessThan(q, f.box_lo.xyz)) || any(greaterThan(q, f.box_hi.xyz))) {
     float margin = f.scale.w;
-    return vec3(length(q - clamp(q, vec3(margin), vec3(dims) - margin)) * f.scale.y, kFarAway, f.scale.z);
+    return vec3(length(q - clamp(q, f.box_lo.xyz + margin, f.box_hi.xyz - margin)) * f.scale.y, kFarAway, f.scale.z);
   }
   vec3 s = q - 0.5;
   vec3 base = floor(s);

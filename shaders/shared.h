@@ -134,6 +134,8 @@ struct FieldInstance {
                         // z = world size of a voxel (at most: for clearances and step limits),
                         // w = voxels between the box's faces and what the field holds (its margin, on every side)
   uvec4 texels;         // x = the field's first texel in the pool, yzw = its dims
+  vec4 box_lo;          // xyz: the part of the field the march reads, in its voxel space: what it holds
+  vec4 box_hi;          // grown by the margin (a grid with room for motion has more, of far values only)
 };
 
 struct ShadePush {
@@ -186,7 +188,7 @@ static_assert(sizeof(GpuLight) == 64, "GpuLight layout");
 static_assert(sizeof(FrameData) == 112 + 32 * kMaxSkyBlockers, "FrameData layout");
 static_assert(sizeof(GBufferPush) == 96, "GBufferPush layout");
 static_assert(sizeof(ShadePush) == 96, "ShadePush layout");
-static_assert(sizeof(FieldInstance) == 96, "FieldInstance layout");
+static_assert(sizeof(FieldInstance) == 128, "FieldInstance layout");
 static_assert(sizeof(ShadowTile) == 112, "ShadowTile layout");
 static_assert(sizeof(ShadowLightTiles) == 16, "ShadowLightTiles layout");
 static_assert(sizeof(ShadowMapPush) == 96, "ShadowMapPush layout");
