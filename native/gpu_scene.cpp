@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstring>
+#include <utility>
 
 #include "error.h"
 #include "mesh_topology.h"
@@ -226,18 +227,27 @@ void GpuScene::set_mesh(uint32_t mesh, Mesh geometry) {
   // keeps the mesh's field (new normals alone only reach the rasterizer).
   const bool shape_changed = geometry.positions != current.positions || geometry.indices != current.indices;
   if (!shape_changed && geometry.normals == current.normals) return;
-  Scene deformed = scene_;
-  deformed.meshes[mesh] = std::move(geometry);
-  deformed.validate();
+  Scene::validate_mesh(geometry);
   if (!shape_changed) {
-    scene_ = std::move(deformed);
+    current = std::move(geometry);
     upload_raster();
     return;
   }
   for (uint32_t i = 0; i < scene_.instances.size(); ++i)
     if (scene_.instances[i].mesh == mesh) mark_changed(i);  // the old shape
-  scene_ = std::move(deformed);
-  extents_[mesh] = MeshExtent(scene_.meshes[mesh]);
+  // In place, checked as a whole through the extents (no copy of the scene
+  // every frame a mesh deforms), and put back if the scene would be unusable.
+  Mesh previous = std::exchange(current, std::move(geometry));
+  MeshExtent previous_extent = std::exchange(extents_[mesh], MeshExtent(current));
+  try {
+    std::vector<uint32_t> all(scene_.instances.size());
+    for (uint32_t i = 0; i < all.size(); ++i) all[i] = i;
+    scene_.validate_extent(scene_.world_bounds(all, extents_));
+  } catch (const Error&) {
+    current = std::move(previous);
+    extents_[mesh] = std::move(previous_extent);
+    throw;
+  }
   mesh_versions_[mesh]++;
   for (uint32_t i = 0; i < scene_.instances.size(); ++i)
     if (scene_.instances[i].mesh == mesh) mark_changed(i);  // the new one

@@ -15,18 +15,20 @@ size_t Scene::triangle_count() const {
   return count;
 }
 
+void Scene::validate_mesh(const Mesh& mesh) {
+  const std::string label = "mesh '" + mesh.name + "'";
+  if (mesh.indices.size() % 3 != 0) throw Error(label + " has an index count that is not a multiple of 3");
+  for (const glm::vec3& p : mesh.positions)
+    if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
+      throw Error(label + " has NaN or infinite vertex coordinates");
+  for (uint32_t index : mesh.indices)
+    if (index >= mesh.positions.size()) throw Error(label + " has a triangle index past its vertex count");
+  if (!mesh.normals.empty() && mesh.normals.size() != mesh.positions.size())
+    throw Error(label + " has a normal count different from its vertex count");
+}
+
 void Scene::validate() const {
-  for (const Mesh& mesh : meshes) {
-    const std::string label = "mesh '" + mesh.name + "'";
-    if (mesh.indices.size() % 3 != 0) throw Error(label + " has an index count that is not a multiple of 3");
-    for (const glm::vec3& p : mesh.positions)
-      if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
-        throw Error(label + " has NaN or infinite vertex coordinates");
-    for (uint32_t index : mesh.indices)
-      if (index >= mesh.positions.size()) throw Error(label + " has a triangle index past its vertex count");
-    if (!mesh.normals.empty() && mesh.normals.size() != mesh.positions.size())
-      throw Error(label + " has a normal count different from its vertex count");
-  }
+  for (const Mesh& mesh : meshes) validate_mesh(mesh);
   for (const Instance& instance : instances) {
     if (instance.mesh >= meshes.size()) throw Error("an instance refers to a mesh that does not exist");
     for (int c = 0; c < 4; ++c)
@@ -34,8 +36,11 @@ void Scene::validate() const {
         if (!std::isfinite(instance.object_to_world[c][r]))
           throw Error("an instance of mesh '" + meshes[instance.mesh].name + "' has a NaN or infinite transform");
   }
+  validate_extent(world_bounds());
+}
+
+void Scene::validate_extent(const Bounds& bounds) const {
   if (triangle_count() == 0) throw Error("the scene has no triangles");
-  Bounds bounds = world_bounds();
   glm::vec3 extent = bounds.extent();
   if (!std::isfinite(extent.x) || !std::isfinite(extent.y) || !std::isfinite(extent.z))
     throw Error("the scene's bounds are not finite: coordinates are too large");

@@ -44,6 +44,11 @@ struct Scene {
   // Throws rtsdf::Error for anything the pipeline cannot use: no triangles,
   // NaN or infinite coordinates or transforms, indices out of range.
   void validate() const;
+  // The part of validate() about one mesh: coordinates, indices, normals.
+  static void validate_mesh(const Mesh& mesh);
+  // The part about the whole: some triangles, and `bounds` (the world's)
+  // finite and not flat to a point.
+  void validate_extent(const Bounds& bounds) const;
   // World-space bounds of every instanced vertex; call validate() first.
   Bounds world_bounds() const;
   // The same over some instances only (by index).

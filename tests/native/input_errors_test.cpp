@@ -85,8 +85,18 @@ TEST_F(InputErrors, DynamicUpdatesRejectBadTransformsAndVertexCounts) {
   EXPECT_NE(error_of([&] { scene.set_transforms({bad}); }).find("NaN"), std::string::npos);
   EXPECT_NE(error_of([&] { scene.set_transforms({}); }).find("expected 1"), std::string::npos);
   EXPECT_NE(error_of([&] { scene.set_mesh_positions(0, {{0, 0, 0}}); }).find("vertex count"), std::string::npos);
+  Mesh bad_mesh = reference::single_triangle({0, 0, 0}, {1, 0, 0}, {0, std::nanf(""), 0});
+  EXPECT_NE(error_of([&] { scene.set_mesh(0, bad_mesh); }).find("NaN"), std::string::npos);
+  bad_mesh.positions = {{-3e38f, 0, 0}, {3e38f, 0, 0}, {0, 1, 0}};
+  EXPECT_NE(error_of([&] { scene.set_mesh(0, bad_mesh); }).find("too large"), std::string::npos);
+  bad_mesh.indices.clear();
+  EXPECT_NE(error_of([&] { scene.set_mesh(0, bad_mesh); }).find("no triangles"), std::string::npos);
+  EXPECT_NE(error_of([&] { scene.set_mesh(1, bad_mesh); }).find("no mesh 1"), std::string::npos);
   // The scene is unchanged by the refused updates.
   EXPECT_EQ(scene.instances()[0].object_to_world, glm::mat4(1.0f));
+  EXPECT_EQ(scene.scene().meshes[0].positions[1], glm::vec3(1, 0, 0));
+  EXPECT_EQ(scene.mesh_version(0), 0u);
+  EXPECT_EQ(scene.bounds().hi.x, 1.0f);
 }
 
 TEST_F(InputErrors, NoMatchingDeviceName) {
