@@ -133,43 +133,47 @@ TEST_F(ObjectFieldsTest, InstancesShareOneField) {
   EXPECT_GT(dark, 100 * 3);
 }
 
-// (Re)starts a viewport-like render of `gpu_scene` from above.
-void begin_from_above(Renderer& renderer, GpuScene& gpu_scene) {
-  renderer.begin(gpu_scene, top_view(3.0f), {overhead_sun()}, glm::vec3(0.1f), 64, 64, viewport_settings(), true);
-}
+// sphere_box_ground() in a viewport-like render from above, run until its
+// fields are still.
+struct StillViewport {
+  Scene scene = sphere_box_ground();
+  GpuScene gpu_scene;
+  Renderer renderer;
+  explicit StillViewport(const vk::Context& context) : gpu_scene(context, scene), renderer(context) {
+    restart();
+    run_until_still(renderer);
+  }
+  // Starts the render afresh after a change, as the viewport does.
+  void restart() {
+    renderer.begin(gpu_scene, top_view(3.0f), {overhead_sun()}, glm::vec3(0.1f), 64, 64, viewport_settings(), true);
+  }
+};
 
 TEST_F(ObjectFieldsTest, DeformationRebuildsOnlyThatMesh) {
-  Scene scene = sphere_box_ground();
-  GpuScene gpu_scene(context(), scene);
-  Renderer renderer(context());
-  begin_from_above(renderer, gpu_scene);
-  run_until_still(renderer);
+  StillViewport view(context());
   // The same positions again (what Blender sends for an animated object on
   // every frame change) are no deformation.
-  gpu_scene.set_mesh_positions(0, scene.meshes[0].positions);
-  EXPECT_EQ(gpu_scene.mesh_version(0), 0u);
-  begin_from_above(renderer, gpu_scene);
-  EXPECT_EQ(renderer.stats().fields_regenerated, 0);
-  std::vector<glm::vec3> grown = scene.meshes[0].positions;
+  view.gpu_scene.set_mesh_positions(0, view.scene.meshes[0].positions);
+  EXPECT_EQ(view.gpu_scene.mesh_version(0), 0u);
+  view.restart();
+  EXPECT_EQ(view.renderer.stats().fields_regenerated, 0);
+  std::vector<glm::vec3> grown = view.scene.meshes[0].positions;
   for (glm::vec3& p : grown) p *= 1.2f;
-  gpu_scene.set_mesh_positions(0, grown);
-  begin_from_above(renderer, gpu_scene);
-  EXPECT_EQ(renderer.stats().fields_regenerated, 1) << "only the deformed mesh's field is rebuilt";
-  renderer.add_frame();
-  EXPECT_GT(renderer.stats().last_frame_traced_texels, 0u) << "and refined";
+  view.gpu_scene.set_mesh_positions(0, grown);
+  view.restart();
+  EXPECT_EQ(view.renderer.stats().fields_regenerated, 1) << "only the deformed mesh's field is rebuilt";
+  view.renderer.add_frame();
+  EXPECT_GT(view.renderer.stats().last_frame_traced_texels, 0u) << "and refined";
 }
 
 // New geometry in place: the box's quads split along their other diagonals
 // (as Blender retriangulates a bending quad) and new normals.
 TEST_F(ObjectFieldsTest, NewTrianglesReplaceTheMeshInPlace) {
-  Scene scene = sphere_box_ground();
-  GpuScene gpu_scene(context(), scene);
-  Renderer renderer(context());
-  begin_from_above(renderer, gpu_scene);
-  run_until_still(renderer);
+  StillViewport view(context());
+  GpuScene& gpu_scene = view.gpu_scene;
   const uint64_t scene_id = gpu_scene.id();
 
-  Mesh box = scene.meshes[1];
+  Mesh box = view.scene.meshes[1];
   box.normals.assign(box.positions.size(), glm::vec3(0, 0, 1));
   gpu_scene.set_mesh(1, box);
   EXPECT_EQ(gpu_scene.mesh_version(1), 0u) << "new normals alone are no new shape";
@@ -185,10 +189,10 @@ TEST_F(ObjectFieldsTest, NewTrianglesReplaceTheMeshInPlace) {
   EXPECT_EQ(gpu_scene.mesh_version(1), 1u);
   EXPECT_EQ(gpu_scene.id(), scene_id);
   EXPECT_EQ(gpu_scene.scene().meshes[1].triangle_count(), box.triangle_count());
-  begin_from_above(renderer, gpu_scene);
-  EXPECT_EQ(renderer.stats().fields_regenerated, 1) << "only the box's field is rebuilt";
-  renderer.add_frame();
-  EXPECT_GT(renderer.stats().last_frame_traced_texels, 0u);
+  view.restart();
+  EXPECT_EQ(view.renderer.stats().fields_regenerated, 1) << "only the box's field is rebuilt";
+  view.renderer.add_frame();
+  EXPECT_GT(view.renderer.stats().last_frame_traced_texels, 0u);
 }
 
 // A scaled sphere's shadow against the same ellipsoid baked into the mesh
