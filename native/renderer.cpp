@@ -27,6 +27,27 @@ float halton(uint32_t index, uint32_t base) {
   return r;
 }
 
+}  // namespace
+
+float pixel_filter_offset(float u, float width) {
+  if (width <= 0.0f) return u - 0.5f;
+  const float span = 2.0f * width;
+  // The window's integral from its left end to the phase v (0 to 2 pi).
+  auto integral = [](float v) {
+    return 0.35875f * v - 0.48829f * std::sin(v) + 0.14128f * 0.5f * std::sin(2.0f * v) -
+           0.01168f / 3.0f * std::sin(3.0f * v);
+  };
+  const float two_pi = 6.28318531f, target = u * integral(two_pi);
+  float lo = 0.0f, hi = two_pi;
+  for (int i = 0; i < 32; ++i) {
+    const float mid = 0.5f * (lo + hi);
+    (integral(mid) < target ? lo : hi) = mid;
+  }
+  return (0.5f * (lo + hi) / two_pi - 0.5f) * span;
+}
+
+namespace {
+
 template <typename T>
 std::vector<T> read_plane(const vk::Context& context, const vk::Image& image, int channels) {
   vk::Buffer readback = vk::download_image(context, image, sizeof(float) * channels);
@@ -91,6 +112,7 @@ void Renderer::validate(int width, int height, const RenderSettings& settings) c
   if (width < 1 || height < 1 || width > 16384 || height > 16384)
     throw Error("image size " + std::to_string(width) + "x" + std::to_string(height) + " is out of range (1 to 16384)");
   if (settings.samples < 1 || settings.samples > 4096) throw Error("samples must be 1 to 4096");
+  if (!(settings.filter_width >= 0.0f && settings.filter_width <= 8.0f)) throw Error("filter_width must be 0 to 8 pixels");
   if (settings.sdf_updates < 0 || settings.sdf_updates > 4096) throw Error("sdf_updates must be 0 (every frame) to 4096");
   if (!(settings.grid_slack >= 0.0f && settings.grid_slack <= 4.0f)) throw Error("grid_slack must be 0 to 4");
   if (settings.shadow_max_steps < 1 || settings.shadow_max_steps > 4096) throw Error("shadow_max_steps must be 1 to 4096");
@@ -295,8 +317,9 @@ void Renderer::add_frame() {
   timings_.shadow_map_ms += ms_since(maps);
 
   const Clock::time_point shading = Clock::now();
-  // Sub-pixel jitter (Halton 2,3) for anti-aliasing, averaged over frames.
-  const glm::vec2 jitter(halton(uint32_t(frame_), 2) - 0.5f, halton(uint32_t(frame_), 3) - 0.5f);
+  // Sub-pixel jitter (Halton 2,3 through the pixel filter) for anti-aliasing, averaged over frames.
+  const glm::vec2 jitter(pixel_filter_offset(halton(uint32_t(frame_), 2), settings_.filter_width),
+                         pixel_filter_offset(halton(uint32_t(frame_), 3), settings_.filter_width));
   const glm::mat4 shift = glm::translate(glm::mat4(1.0f), glm::vec3(2.0f * jitter.x / float(width_),
                                                                    2.0f * jitter.y / float(height_), 0.0f));
   frame_data_.world_to_clip = shift * world_to_clip_;

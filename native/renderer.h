@@ -60,6 +60,11 @@ struct RenderSettings {
   float max_step = 4.0f;         // voxels of the field marched, as shadow_epsilon
   int shadow_map_size = 1024;    // csm_evsm: texels per side of each cascade (and spot view, cube face)
   int samples = 16;              // accumulation frames (sub-pixel and shadow-origin jitter each)
+  // Pixel filter: Blackman-Harris, this wide in pixels (Blender's Filter Size,
+  // Cycles' default filter and width), sampled by each frame's sub-pixel
+  // jitter so that accumulated frames converge to the filtered image, as
+  // Cycles' do. 0: a box over the pixel.
+  float filter_width = 1.5f;
   // Fine-SDF updates per render, one in each of the first accumulation frames
   // (0: every frame). A static frame's field is near converged after a few;
   // the later frames only refine the anti-aliasing and the shadow jitter.
@@ -106,6 +111,13 @@ struct RenderOutput {
   RenderStats stats;
   int samples_done = 0;  // fewer than asked when stopped through Progress
 };
+
+// The offset from the pixel centre (in pixels, along one axis) left of which a
+// share u of the pixel filter's weight lies: uniform u in [0, 1) gives
+// offsets distributed as the filter (RenderSettings::filter_width).
+// Blackman-Harris as Cycles uses it: the window spans twice the filter width.
+// Width 0: a box over the pixel.
+float pixel_filter_offset(float u, float width);
 
 class Renderer {
  public:

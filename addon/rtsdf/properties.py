@@ -72,7 +72,10 @@ class RTSDFSettings(bpy.types.PropertyGroup):
                     "K times as many frames to converge")
 
     def as_dict(self):
-        return {name: getattr(self, name) for name in self.__annotations__}
+        settings = {name: getattr(self, name) for name in self.__annotations__}
+        # The pixel filter is the scene's (Film > Filter Size), as Cycles' and EEVEE's are.
+        settings["filter_width"] = self.id_data.render.filter_size
+        return settings
 
 
 classes = (RTSDFSettings,)

@@ -174,6 +174,7 @@ rtsdf::RenderSettings settings_of(const py::dict& settings_desc) {
   settings.shadow_max_steps = get<int>(settings_desc, "shadow_max_steps", settings.shadow_max_steps);
   settings.max_step = get<float>(settings_desc, "max_step", settings.max_step);
   settings.samples = get<int>(settings_desc, "samples", settings.samples);
+  settings.filter_width = get<float>(settings_desc, "filter_width", settings.filter_width);
   settings.sdf_updates = get<int>(settings_desc, "sdf_updates", settings.sdf_updates);
   settings.grid_slack = get<float>(settings_desc, "grid_slack", settings.grid_slack);
   settings.field_budget_mb = get<double>(settings_desc, "field_budget_mb", settings.field_budget_mb);

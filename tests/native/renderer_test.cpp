@@ -115,6 +115,35 @@ TEST_F(RendererTest, SpherePenumbraMatchesAnalyticWidth) {
   EXPECT_NEAR(out.depth[size_t(row) * size + size - 3], 10.0f, 0.01f);
 }
 
+// The sub-pixel jitter follows Cycles' Blackman-Harris pixel filter: offsets
+// from evenly spread shares have the window's spread (its variance, by direct
+// integration of the window), lie within it and are symmetric; width 0 is a box.
+TEST(PixelFilter, JitterIsDistributedAsTheBlackmanHarrisWindow) {
+  const float width = 1.5f, half_span = width;  // the window spans twice the width
+  auto window = [&](double x) {
+    const double v = 6.283185307 * (x / (2.0 * half_span) + 0.5);
+    return 0.35875 - 0.48829 * std::cos(v) + 0.14128 * std::cos(2 * v) - 0.01168 * std::cos(3 * v);
+  };
+  double weight = 0.0, moment = 0.0;
+  const int steps = 20000;
+  for (int i = 0; i < steps; ++i) {
+    const double x = -half_span + (i + 0.5) * 2.0 * half_span / steps;
+    weight += window(x), moment += window(x) * x * x;
+  }
+  const double window_variance = moment / weight;
+  double sum = 0.0, sum_squares = 0.0;
+  const int samples = 4096;
+  for (int i = 0; i < samples; ++i) {
+    const float x = pixel_filter_offset((float(i) + 0.5f) / float(samples), width);
+    EXPECT_LE(std::abs(x), half_span);
+    sum += x, sum_squares += double(x) * x;
+  }
+  EXPECT_NEAR(sum / samples, 0.0, 1e-3);
+  EXPECT_NEAR(sum_squares / samples, window_variance, 0.01 * window_variance);
+  EXPECT_NEAR(pixel_filter_offset(0.25f, width), -pixel_filter_offset(0.75f, width), 1e-4);
+  EXPECT_FLOAT_EQ(pixel_filter_offset(0.25f, 0.0f), -0.25f);
+}
+
 TEST_F(RendererTest, BadSizesAndLightsAreErrors) {
   GpuScene scene(context(), single_mesh_scene(reference::box({-1, -1, -1}, {1, 1, 1})));
   Renderer renderer(context());
@@ -123,6 +152,9 @@ TEST_F(RendererTest, BadSizesAndLightsAreErrors) {
   bad.energy = std::nanf("");
   EXPECT_THROW(renderer.render(scene, camera, {}, glm::vec3(0), 0, 10, {}), Error);
   EXPECT_THROW(renderer.render(scene, camera, {bad}, glm::vec3(0), 8, 8, {}), Error);
+  RenderSettings no_filter;
+  no_filter.filter_width = std::nanf("");
+  EXPECT_THROW(renderer.render(scene, camera, {}, glm::vec3(0), 8, 8, no_filter), Error);
 }
 
 }  // namespace
