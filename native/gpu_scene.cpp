@@ -130,7 +130,9 @@ void GpuScene::upload_raster() {
   }
   static_assert(sizeof(glm::vec3) == 3 * sizeof(float), "positions are uploaded as packed floats");
   positions_ = storage(context_, positions);
-  indices_ = storage(context_, indices);
+  // (also the G-buffer's index buffer)
+  indices_ = vk::upload_buffer(context_, indices.data(), indices.size() * sizeof(uint32_t),
+                               VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_INDEX_BUFFER_BIT);
   normals_ = storage(context_, normals);
 }
 

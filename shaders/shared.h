@@ -112,10 +112,8 @@ struct FrameData {
 struct GBufferPush {
   mat4 object_to_world;
   vec4 base_color;
-  uint first_index;
-  uint base_vertex;
   float field_voxel;  // world size of a voxel of the field holding this surface (0: only a receiver, in no field)
-  uint pad1;
+  uint pad0, pad1, pad2;
 };
 
 // What the shading's visibility reads (ShadePush::visibility.x).

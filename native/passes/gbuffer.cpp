@@ -16,8 +16,7 @@ constexpr VkFormat kDepth = VK_FORMAT_D32_SFLOAT;
 GBufferPass::GBufferPass(const vk::Context& context)
     : context_(context),
       pipeline_(context, RTSDF_SPIRV(spirv_gbuffer_vert), RTSDF_SPIRV(spirv_gbuffer_frag),
-                {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
-                 VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
+                {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
                 sizeof(gpu::GBufferPush), vk::RenderTargets{{kColor, kColor, kColor}, kDepth}) {}
 
 void GBufferPass::resize(int width, int height) {
@@ -52,9 +51,9 @@ void GBufferPass::record(VkCommandBuffer cmd, const GpuScene& scene, const vk::B
   vkCmdSetViewport(cmd, 0, 1, &viewport);
   vkCmdSetScissor(cmd, 0, 1, &scissor);
   pipeline_.bind(cmd);
-  pipeline_.push_descriptors(cmd, {vk::Resource::storage_buffer(scene.positions()),
-                                   vk::Resource::storage_buffer(scene.indices()), vk::Resource::storage_buffer(frame),
+  pipeline_.push_descriptors(cmd, {vk::Resource::storage_buffer(scene.positions()), vk::Resource::storage_buffer(frame),
                                    vk::Resource::storage_buffer(scene.normals())});
+  vkCmdBindIndexBuffer(cmd, scene.indices().handle(), 0, VK_INDEX_TYPE_UINT32);
   for (size_t i = 0; i < scene.instances().size(); ++i) {
     const Instance& instance = scene.instances()[i];
     const GpuMeshRange& mesh = scene.meshes()[instance.mesh];
@@ -62,11 +61,9 @@ void GBufferPass::record(VkCommandBuffer cmd, const GpuScene& scene, const vk::B
     gpu::GBufferPush push{};
     push.object_to_world = instance.object_to_world;
     push.base_color = glm::vec4(instance.base_color, 1.0f);
-    push.first_index = mesh.first_index;
-    push.base_vertex = mesh.base_vertex;
     push.field_voxel = field_voxels[i];
     pipeline_.push_constants(cmd, push);
-    vkCmdDraw(cmd, 3 * mesh.triangle_count, 1, 0, 0);
+    vkCmdDrawIndexed(cmd, 3 * mesh.triangle_count, 1, mesh.first_index, int32_t(mesh.base_vertex), 0);
   }
   vkCmdEndRenderPass(cmd);
 }
