@@ -43,6 +43,25 @@ float disk_visible(float r) {
   return 0.5 + (r * sqrt(1.0 - r * r) + asin(r)) / 3.14159265;
 }
 
+// The scene's clearance at a world point, from the gathered fields as the
+// march reads them (only_field when there is one).
+float scene_clearance(vec3 world, int nearby, FieldInstance only_field) {
+  return nearby == 1 ? field_distance_at(only_field, (only_field.world_to_field * vec4(world, 1.0)).xyz).y
+                     : nearby_distance(world, nearby).y;
+}
+
+// Unit direction of the clearance's gradient at a world point (tetrahedral
+// differences half a voxel wide): the outward normal of the nearest surface.
+vec3 scene_gradient(vec3 world, int nearby, FieldInstance only_field, float voxel) {
+  const vec2 k = vec2(1.0, -1.0);
+  float e = 0.5 * voxel;
+  vec3 g = k.xyy * scene_clearance(world + e * k.xyy, nearby, only_field) +
+           k.yyx * scene_clearance(world + e * k.yyx, nearby, only_field) +
+           k.yxy * scene_clearance(world + e * k.yxy, nearby, only_field) +
+           k.xxx * scene_clearance(world + e * k.xxx, nearby, only_field);
+  return dot(g, g) > 0.0 ? normalize(g) : vec3(0.0);
+}
+
 // Fraction of the light visible from `origin` along `dir` up to `t_max`;
 // tan_radius = tangent of the light's angular radius (0: a hard shadow).
 // Each sample's clearance from the surfaces is compared with the light cone's
@@ -77,8 +96,13 @@ float disk_visible(float r) {
 // sky's wide cones: the clearance inside an occluder tells how thick it is,
 // not how far it reaches sideways, and through a room's walls (far thinner
 // than the cone is wide) about half the sky shone in.
+// crossed_sheet (out): the axis passed through a sheet of an occluder (left
+// it through a face turned away from the one it entered by: a wall, a leaf, a
+// plate, not the rim of a solid), and the cone was not found wholly blocked:
+// the returned share is then only a guess (see light_visibility).
 float visibility(vec3 origin, vec3 dir, float t_min, float t_max, float tan_radius, float jitter, float escape,
-                 vec3 own_normal, bool axis_blocks) {
+                 vec3 own_normal, bool axis_blocks, out bool crossed_sheet) {
+  crossed_sheet = false;
   if (pc.visibility.z == 0u) return 1.0;
   vec3 inv_dir = safe_inverse(dir);
   // Only inside a field's box is a clearance known (field_distance): clip to
@@ -94,6 +118,8 @@ float visibility(vec3 origin, vec3 dir, float t_min, float t_max, float tan_radi
   float previous_h = 0.0, step = 0.0;
   bool deep_inside = false, have_previous = false, jittered = false;
   bool escaping = escape > 0.0 && !unsigned_field;
+  bool inside = false;  // the last sample was in an occluder
+  vec3 entry_normal = vec3(0.0);  // the occluder's surface where the axis entered it
   float segment_end = t;  // the fields near [t, segment_end] are gathered
   int nearby = 0;
   FieldInstance only_field;  // when nearby is 1: that field, and the ray in its voxel space
@@ -157,6 +183,10 @@ float visibility(vec3 origin, vec3 dir, float t_min, float t_max, float tan_radi
       deep_inside = true, h = -h;
     }
     if (h < 0.0 && axis_blocks) return 0.0;
+    if (h < 0.0 && !inside) entry_normal = scene_gradient(origin + dir * t, nearby, only_field, voxel);
+    if (h >= 0.0 && inside && tan_radius > 0.0)
+      crossed_sheet = crossed_sheet || dot(entry_normal, scene_gradient(origin + dir * t, nearby, only_field, voxel)) < -0.5;
+    inside = h < 0.0;
     if (tan_radius <= 0.0) {
       if (!unsigned_field && h < epsilon) return 0.0;
     } else {
@@ -171,7 +201,10 @@ float visibility(vec3 origin, vec3 dir, float t_min, float t_max, float tan_radi
       float w = tan_radius * max(at, 1e-6);
       bool own_plane = h >= t * dot(dir, own_normal) - 0.5 * epsilon && dot(own_normal, own_normal) > 0.0;
       if (!own_plane) ratio = min(ratio, clearance / w);
-      if (ratio <= -1.0) return 0.0;
+      if (ratio <= -1.0) {
+        crossed_sheet = false;
+        return 0.0;
+      }
     }
     previous_h = h;
     have_previous = true;
@@ -186,6 +219,35 @@ float visibility(vec3 origin, vec3 dir, float t_min, float t_max, float tan_radi
     t += step;
   }
   return tan_radius <= 0.0 ? 1.0 : disk_visible(ratio);
+}
+
+// Share of a light (a disk of tan_radius seen from origin along dir) reaching
+// origin. The cone march measures it from the clearances along the axis,
+// which holds for the rim of a solid: outside surfaces the clearance is the
+// distance in every direction, and inside it is the depth below the rim.
+// Where the axis crosses a sheet (a wall, a leaf card, a plate), the
+// clearance inside tells only the sheet's thickness, not how far it reaches
+// sideways: a room's walls and ceiling, thinner than the sun's cone is wide,
+// let a sixth of the sun through (the interior sample). There, one ray
+// towards a random point of the light's disk (new each frame) stands in: its
+// 0 or 1 averages over accumulation frames to the true share, whatever the
+// occluder's shape.
+float light_visibility(vec3 origin, vec3 dir, float t_min, float t_max, float tan_radius, float jitter, float escape,
+                       ivec2 pixel) {
+  bool crossed_sheet;
+  float v = visibility(origin, dir, t_min, t_max, tan_radius, jitter, escape, vec3(0.0), false, crossed_sheet);
+  if (!crossed_sheet || tan_radius <= 0.0) return v;
+  vec3 t = normalize(abs(dir.z) < 0.9 ? cross(dir, vec3(0.0, 0.0, 1.0)) : cross(dir, vec3(1.0, 0.0, 0.0)));
+  vec3 b = cross(dir, t);
+  // (the pixel's points over frames follow the R2 sequence from a random start: evenly spread over the disk)
+  vec2 start = vec2(hash(uvec3(pixel, 0x1157u)), hash(uvec3(pixel.yx, 0x1158u)));
+  vec2 u = fract(start + float(pc.image.w) * vec2(0.7548776662, 0.5698402910));
+  float r = tan_radius * sqrt(u.x), phi = 6.2831853 * u.y;
+  vec3 towards_disk = normalize(dir + r * (cos(phi) * t + sin(phi) * b));
+  // (a cone a thousandth as wide: blocked where the axis enters a surface, not epsilon short of it as a hard
+  // shadow's march stops, which would widen every shadow by epsilon)
+  return visibility(origin, towards_disk, t_min, t_max, 1e-3 * tan_radius, jitter, escape, vec3(0.0), false,
+                    crossed_sheet);
 }
 
 // Share of the world light (the sky, uniform) reaching p: two cone marches
@@ -221,8 +283,9 @@ float sky_visibility(vec3 origin, vec3 n, float receiver_voxel, float jitter, iv
     float r = sqrt(u1), phi = 6.2831853 * u2;
     vec3 dir = normalize(t * (r * cos(phi)) + b * (r * sin(phi)) + n * sqrt(max(1.0 - u1, 0.0)));
     if (enters_sky_blocker(origin, dir)) continue;
+    bool crossed_sheet;  // (never with axis_blocks)
     sum += visibility(origin, dir, pc.march.z * receiver_voxel, 1e10, 0.35, jitter, 2.0 * receiver_voxel,
-                      in_sdf ? n : vec3(0.0), true);
+                      in_sdf ? n : vec3(0.0), true, crossed_sheet);
   }
   return 0.5 * sum;
 }
@@ -338,9 +401,9 @@ void main() {
       float cos_surface = dot(n, dir);
       if (cos_surface <= 0.0 || dot(irradiance, irradiance) <= 0.0) continue;
       float t_min = pc.march.z * receiver_voxel;
-      float v = pc.visibility.x == kVisibilityShadowMaps ? shadow_map_visibility(l, p, n, in_sdf)
-                                                         : visibility(origin, march_dir, t_min, t_max, tan_radius, jitter,
-                                                                      2.0 * receiver_voxel, vec3(0.0), false);
+      float v = pc.visibility.x == kVisibilityShadowMaps
+                    ? shadow_map_visibility(l, p, n, in_sdf)
+                    : light_visibility(origin, march_dir, t_min, t_max, tan_radius, jitter, 2.0 * receiver_voxel, pixel);
       vec3 direct = irradiance * cos_surface;
       color += albedo * direct * v;
       float weight = dot(direct, vec3(0.2126, 0.7152, 0.0722));
