@@ -112,7 +112,8 @@ void Renderer::validate(int width, int height, const RenderSettings& settings) c
   if (width < 1 || height < 1 || width > 16384 || height > 16384)
     throw Error("image size " + std::to_string(width) + "x" + std::to_string(height) + " is out of range (1 to 16384)");
   if (settings.samples < 1 || settings.samples > 4096) throw Error("samples must be 1 to 4096");
-  if (!(settings.filter_width >= 0.0f && settings.filter_width <= 8.0f)) throw Error("filter_width must be 0 to 8 pixels");
+  if (!(settings.filter_width >= 0.0f && settings.filter_width <= 500.0f))
+    throw Error("filter_width must be 0 to 500 pixels (Blender's Filter Size range)");
   if (settings.sdf_updates < 0 || settings.sdf_updates > 4096) throw Error("sdf_updates must be 0 (every frame) to 4096");
   if (!(settings.grid_slack >= 0.0f && settings.grid_slack <= 4.0f)) throw Error("grid_slack must be 0 to 4");
   if (settings.shadow_max_steps < 1 || settings.shadow_max_steps > 4096) throw Error("shadow_max_steps must be 1 to 4096");
