@@ -36,6 +36,12 @@ float hash(uvec3 v) {
   return float(v.x) * (1.0 / 4294967296.0);
 }
 
+// Two unit vectors that make an orthonormal frame with the unit vector n.
+void tangent_frame(vec3 n, out vec3 t, out vec3 b) {
+  t = normalize(abs(n.z) < 0.9 ? cross(n, vec3(0.0, 0.0, 1.0)) : cross(n, vec3(1.0, 0.0, 0.0)));
+  b = cross(n, t);
+}
+
 // Share of a disk (the light) left visible by a straight occluder edge at
 // signed distance r (in disk radii; r < 0: the edge covers the centre).
 float disk_visible(float r) {
@@ -233,23 +239,26 @@ float visibility(vec3 origin, vec3 dir, float t_min, float t_max, float tan_radi
 // occluder's shape.
 float light_visibility(vec3 origin, vec3 dir, float t_min, float t_max, float tan_radius, float jitter, float escape,
                        ivec2 pixel) {
-  vec3 t = normalize(abs(dir.z) < 0.9 ? cross(dir, vec3(0.0, 0.0, 1.0)) : cross(dir, vec3(1.0, 0.0, 0.0)));
-  vec3 b = cross(dir, t);
-  // (the pixel's points over frames follow the R2 sequence from a random start: evenly spread over the disk)
-  vec2 start = vec2(hash(uvec3(pixel, 0x1157u)), hash(uvec3(pixel.yx, 0x1158u)));
-  vec2 u = fract(start + float(pc.image.w) * vec2(0.7548776662, 0.5698402910));
-  float r = tan_radius * sqrt(u.x), phi = 6.2831853 * u.y;
-  vec3 towards_disk = normalize(dir + r * (cos(phi) * t + sin(phi) * b));
-  float v = 1.0;
   // The cone, then where it crossed a sheet the ray (one call site: two made
   // the shader's march twice as large, and every march slower on lavapipe).
+  // The ray is a cone a thousandth as wide, blocked where its axis enters a
+  // surface, not epsilon short of it as a hard shadow's march stops, which
+  // would widen every shadow by epsilon.
+  vec3 march_dir = dir;
+  float cone = tan_radius;
+  float v = 1.0;
   for (int pass = 0; pass < 2; ++pass) {
     bool crossed_sheet;
-    // (the ray: a cone a thousandth as wide, blocked where its axis enters a surface, not epsilon short of it
-    // as a hard shadow's march stops, which would widen every shadow by epsilon)
-    v = visibility(origin, pass == 0 ? dir : towards_disk, t_min, t_max, pass == 0 ? tan_radius : 1e-3 * tan_radius,
-                   jitter, escape, vec3(0.0), false, crossed_sheet);
+    v = visibility(origin, march_dir, t_min, t_max, cone, jitter, escape, vec3(0.0), false, crossed_sheet);
     if (!crossed_sheet || tan_radius <= 0.0) break;
+    // (the pixel's points over frames follow the R2 sequence from a random start: evenly spread over the disk)
+    vec3 t, b;
+    tangent_frame(dir, t, b);
+    vec2 start = vec2(hash(uvec3(pixel, 0x1157u)), hash(uvec3(pixel.yx, 0x1158u)));
+    vec2 u = fract(start + float(pc.image.w) * vec2(0.7548776662, 0.5698402910));
+    float r = tan_radius * sqrt(u.x), phi = 6.2831853 * u.y;
+    march_dir = normalize(dir + r * (cos(phi) * t + sin(phi) * b));
+    cone = 1e-3 * tan_radius;
   }
   return v;
 }
@@ -278,8 +287,8 @@ bool enters_sky_blocker(vec3 p, vec3 dir) {
 // receiver_voxel: the world voxel of the field holding the receiver (0: in none).
 float sky_visibility(vec3 origin, vec3 n, float receiver_voxel, float jitter, ivec2 pixel) {
   bool in_sdf = receiver_voxel > 0.0;
-  vec3 t = normalize(abs(n.z) < 0.9 ? cross(n, vec3(0.0, 0.0, 1.0)) : cross(n, vec3(1.0, 0.0, 0.0)));
-  vec3 b = cross(n, t);
+  vec3 t, b;
+  tangent_frame(n, t, b);
   float sum = 0.0;
   for (uint k = 0u; k < 2u; ++k) {
     float u1 = hash(uvec3(pixel, uint(pc.image.w) * 4u + 2u * k + 1u));

@@ -329,38 +329,34 @@ TEST_F(RendererTest, GroundLeftOutOfTheSdfStillHidesTheSkyBelow) {
   EXPECT_NEAR(side, 0.5 * open, 0.1 * 0.5 * open);
 }
 
-// A closed room whose walls are much thinner than the sky's cones are wide:
-// no world light inside. By the clearance inside the walls alone (about
-// -thickness / 2 against cones metres wide) half the sky shone through them.
-// A closed room 4 units wide whose floor, walls and ceiling are 0.1 thick, and
-// a camera inside it looking down at the floor.
-Mesh closed_room() {
+// Renders (32x32, 8 frames) the floor of a closed room 4 units wide whose
+// floor, walls and ceiling are 0.1 thick, seen from inside, under `lights`
+// and a world of colour `ambient`.
+RenderOutput render_closed_room_floor(const vk::Context& context, const std::vector<Light>& lights, glm::vec3 ambient) {
   Mesh room = reference::box({-2.1f, -2.1f, -0.1f}, {2.1f, 2.1f, 0.0f});  // floor
   reference::append(room, reference::box({-2.1f, -2.1f, 2.5f}, {2.1f, 2.1f, 2.6f}));  // ceiling
   reference::append(room, reference::box({-2.1f, -2.1f, 0.0f}, {-2.0f, 2.1f, 2.5f}));
   reference::append(room, reference::box({2.0f, -2.1f, 0.0f}, {2.1f, 2.1f, 2.5f}));
   reference::append(room, reference::box({-2.0f, -2.1f, 0.0f}, {2.0f, -2.0f, 2.5f}));
   reference::append(room, reference::box({-2.0f, 2.0f, 0.0f}, {2.0f, 2.1f, 2.5f}));
-  return room;
-}
-Camera inside_closed_room() {
-  Camera camera;
+  GpuScene scene(context, single_mesh_scene(room));
+  Camera camera;  // inside, looking down at the floor
   camera.world_to_view = glm::lookAt(glm::vec3(0, 0, 2.0f), glm::vec3(0, 0, 0), glm::vec3(0, 1, 0));
   camera.projection = glm::perspectiveRH_NO(1.2f, 1.0f, 0.1f, 20.0f);
-  return camera;
-}
-
-TEST_F(RendererTest, NoWorldLightInsideAClosedRoom) {
-  GpuScene scene(context(), single_mesh_scene(closed_room()));
-  const Camera camera = inside_closed_room();
   RenderSettings settings;
   settings.samples = 8;
   settings.coarse_resolution = 32;
   settings.fine_resolution = 64;
-  const int size = 32;
-  Renderer renderer(context());
-  RenderOutput out = renderer.render(scene, camera, {}, glm::vec3(0.5f), size, size, settings);
-  const double mean = mean_red(out, 0, 0, size, size), open = 0.8 * 0.5;
+  Renderer renderer(context);
+  return renderer.render(scene, camera, lights, ambient, 32, 32, settings);
+}
+
+// A closed room whose walls are much thinner than the sky's cones are wide:
+// no world light inside. By the clearance inside the walls alone (about
+// -thickness / 2 against cones metres wide) half the sky shone through them.
+TEST_F(RendererTest, NoWorldLightInsideAClosedRoom) {
+  RenderOutput out = render_closed_room_floor(context(), {}, glm::vec3(0.5f));
+  const double mean = mean_red(out, 0, 0, out.width, out.height), open = 0.8 * 0.5;
   std::printf("floor of a closed room: mean %.4f (open sky would give %.2f)\n", mean, open);
   EXPECT_LT(mean, 0.05 * open);
 }
@@ -370,19 +366,12 @@ TEST_F(RendererTest, NoWorldLightInsideAClosedRoom) {
 // their thickness (a sixth of the sun came through before the march told a
 // sheet from the rim of a solid).
 TEST_F(RendererTest, NoSunInsideAClosedRoomWithThinWalls) {
-  GpuScene scene(context(), single_mesh_scene(closed_room()));
   Light sun;
   sun.type = LightType::Sun;
   sun.direction = glm::normalize(glm::vec3(0.8f, 0.2f, -0.5f));  // 32 degrees above the horizon
   sun.energy = 3.0f;
   sun.sun_angle = 10.0f * float(M_PI) / 180.0f;
-  RenderSettings settings;
-  settings.samples = 8;
-  settings.coarse_resolution = 32;
-  settings.fine_resolution = 64;
-  const int size = 32;
-  Renderer renderer(context());
-  RenderOutput out = renderer.render(scene, inside_closed_room(), {sun}, glm::vec3(0.0f), size, size, settings);
+  RenderOutput out = render_closed_room_floor(context(), {sun}, glm::vec3(0.0f));
   double lit = 0.0, bright = 0.0;
   for (float v : out.shadow) lit += v, bright += v > 0.05f ? 1.0 : 0.0;
   lit /= double(out.shadow.size()), bright /= double(out.shadow.size());
