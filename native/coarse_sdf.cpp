@@ -44,6 +44,14 @@ void CoarseSdf::allocate(const GridSpec& grid) {
   vk::make_general(context_, {&seeds_, &flood_a_, &flood_b_, &distance_});
 }
 
+void CoarseSdf::release() {
+  seeds_ = {};
+  flood_a_ = {};
+  flood_b_ = {};
+  distance_ = {};
+  grid_ = {};
+}
+
 void CoarseSdf::build(const GpuScene& scene, const GridSpec& grid, float beta_voxels) {
   std::vector<VoxelizeItem> items;
   for (uint32_t i : scene.shadow_casters())

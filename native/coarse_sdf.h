@@ -47,6 +47,9 @@ class CoarseSdf {
   void build_mesh(const GpuScene& scene, uint32_t mesh, const GridSpec& grid, float beta_voxels);
   // Device memory of the grid's images.
   size_t bytes() const { return coarse_sdf_bytes(grid_); }
+  // Frees the images (a field packed for the march needs them no more);
+  // the next build allocates them again.
+  void release();
 
   const GridSpec& grid() const { return grid_; }
   float beta_world() const { return beta_world_; }

@@ -52,6 +52,15 @@ void FineSdf::allocate(const GridSpec& grid) {
   frame_ = 0;
 }
 
+void FineSdf::release() {
+  distance_ = {};
+  hit_counts_ = {};
+  trace_list_ = {};
+  dispatch_ = {};
+  grid_ = {};
+  frame_ = 0;
+}
+
 void FineSdf::update(GpuScene& scene, const CoarseSdf& coarse, const GridSpec& fine_grid,
                      const FineTraceSettings& settings, const Bounds* changed) {
   update(scene.ray_structures().targets(), coarse, fine_grid, settings, changed);

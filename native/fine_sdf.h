@@ -32,6 +32,9 @@ class FineSdf {
   void update(const GpuScene::RayTargets& rays, const CoarseSdf& coarse, const GridSpec& fine_grid,
               const FineTraceSettings& settings, const Bounds* changed = nullptr);
   void reset() { frame_ = 0; }
+  // Frees the images and lists (a field packed for the march needs them no
+  // more); the next update allocates them again and starts afresh.
+  void release();
 
   const GridSpec& grid() const { return grid_; }
   const vk::Image& distance() const { return distance_; }

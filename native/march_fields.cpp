@@ -42,66 +42,8 @@ glm::vec2 singular_value_range(const glm::mat3& m) {
 
 MarchFields::MarchFields(const vk::Context& context) : context_(context) {}
 
-bool MarchFields::set_layout(const std::vector<GridSpec>& grids, const std::vector<Bounds>& contents,
-                             const std::vector<float>& rooms) {
-  if (contents.size() != grids.size() || (!rooms.empty() && rooms.size() != grids.size()))
-    throw Error("MarchFields: one content box (and room) per field");
-  margins_.clear();
-  box_lo_.clear();
-  box_hi_.clear();
-  for (size_t i = 0; i < grids.size(); ++i) {
-    const glm::vec3 dims(grids[i].dims);
-    const glm::vec3 content_lo = (contents[i].lo - grids[i].origin) / grids[i].voxel_size;
-    const glm::vec3 content_hi = (contents[i].hi - grids[i].origin) / grids[i].voxel_size;
-    const glm::vec3 lo = rooms.empty() ? glm::vec3(0.0f) : glm::clamp(content_lo - rooms[i], glm::vec3(0.0f), dims);
-    const glm::vec3 hi = rooms.empty() ? dims : glm::clamp(content_hi + rooms[i], glm::vec3(0.0f), dims);
-    const glm::vec3 room = glm::min(content_lo - lo, hi - content_hi);
-    margins_.push_back(std::max(0.0f, std::min(room.x, std::min(room.y, room.z))));
-    box_lo_.push_back(lo);
-    box_hi_.push_back(hi);
-  }
-  bool same = grids.size() == grids_.size() && texels_;
-  for (size_t i = 0; same && i < grids.size(); ++i) same = grids[i].dims == grids_[i].dims;
-  grids_ = grids;
-  if (same) return false;
-  first_texel_.clear();
-  size_t total = 0;
-  for (const GridSpec& grid : grids) {
-    first_texel_.push_back(uint32_t(total));
-    total += grid.voxel_count();
-  }
-  if (total > size_t(UINT32_MAX)) throw Error("the distance fields hold more than 2^32 texels: lower the resolution");
-  const size_t bytes = std::max<size_t>(total, 1) * sizeof(float);
-  if (bytes > context_.device_local_heap_bytes() / 2)
-    throw Error("the distance fields need " + std::to_string(bytes >> 20) + " MiB: lower the resolution");
-  texels_ = vk::Buffer(context_, bytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
-                       vk::Buffer::Access::DeviceOnly);
-  return true;
-}
-
-void MarchFields::record_copy(VkCommandBuffer cmd, uint32_t field, const vk::Image& distance) const {
-  if (field >= grids_.size() || distance.dims() != grids_[field].dims)
-    throw Error("MarchFields: a field's image does not match its layout");
-  vk::image_barrier(cmd, distance.handle(), VK_IMAGE_LAYOUT_GENERAL, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
-                    VK_ACCESS_SHADER_WRITE_BIT, VK_ACCESS_TRANSFER_READ_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
-                    VK_PIPELINE_STAGE_TRANSFER_BIT);
-  VkBufferImageCopy region{};
-  region.bufferOffset = VkDeviceSize(first_texel_[field]) * sizeof(float);
-  region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
-  region.imageExtent = {uint32_t(distance.dims().x), uint32_t(distance.dims().y), uint32_t(distance.dims().z)};
-  vkCmdCopyImageToBuffer(cmd, distance.handle(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, texels_.handle(), 1, &region);
-  vk::image_barrier(cmd, distance.handle(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, VK_IMAGE_LAYOUT_GENERAL,
-                    VK_ACCESS_TRANSFER_READ_BIT, VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT,
-                    VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT);
-}
-
-void MarchFields::record_copies_done(VkCommandBuffer cmd) {
-  vk::memory_barrier(cmd, VK_ACCESS_TRANSFER_WRITE_BIT, VK_ACCESS_SHADER_READ_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT,
-                     VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT);
-}
-
-float MarchFields::world_voxel(uint32_t field, const glm::mat4& object_to_world) const {
-  return grids_.at(field).voxel_size * singular_value_range(glm::mat3(object_to_world)).y;
+float MarchFields::world_voxel(const PackedField& field, const glm::mat4& object_to_world) {
+  return field.grid().voxel_size * singular_value_range(glm::mat3(object_to_world)).y;
 }
 
 void MarchFields::place(const std::vector<Placement>& placements) {
@@ -110,24 +52,21 @@ void MarchFields::place(const std::vector<Placement>& placements) {
   largest_voxel_ = 0.0f;
   skipped_degenerate_ = 0;
   for (const Placement& placement : placements) {
-    const GridSpec& grid = grids_.at(placement.field);
+    const PackedField& field = *placement.field;
+    const GridSpec& grid = field.grid();
     const glm::vec2 stretch = singular_value_range(glm::mat3(placement.object_to_world));
     if (!(stretch.x > kDegenerateScale * stretch.y)) {
       skipped_degenerate_++;
       continue;
     }
-    gpu::FieldInstance record{};
+    gpu::FieldInstance record = field.instance_record();
     record.world_to_field = grid.world_to_voxel() * glm::inverse(placement.object_to_world);
-    record.scale = glm::vec4(stretch.x, stretch.x * grid.voxel_size, stretch.y * grid.voxel_size,
-                             margins_[placement.field]);
-    record.texels = glm::uvec4(first_texel_[placement.field], glm::uvec3(grid.dims));
-    record.box_lo = glm::vec4(box_lo_[placement.field], 0.0f);
-    record.box_hi = glm::vec4(box_hi_[placement.field], 0.0f);
+    record.scale = glm::vec4(stretch.x * grid.voxel_size, stretch.y * grid.voxel_size, record.scale.z, 0.0f);
     records.push_back(record);
-    largest_voxel_ = std::max(largest_voxel_, record.scale.z);
+    largest_voxel_ = std::max(largest_voxel_, record.scale.y);
     Aabb box;
-    const glm::vec3 lo = grid.origin + box_lo_[placement.field] * grid.voxel_size;
-    const glm::vec3 hi = grid.origin + box_hi_[placement.field] * grid.voxel_size;
+    const glm::vec3 lo = grid.origin + field.box_lo() * grid.voxel_size;
+    const glm::vec3 hi = grid.origin + field.box_hi() * grid.voxel_size;
     for (int corner = 0; corner < 8; ++corner) {
       const glm::vec3 p(corner & 1 ? hi.x : lo.x, corner & 2 ? hi.y : lo.y, corner & 4 ? hi.z : lo.z);
       box.grow(glm::vec3(placement.object_to_world * glm::vec4(p, 1.0f)));

@@ -18,6 +18,10 @@ size_t field_bytes(const Bounds& bounds, int coarse_resolution, int fine_resolut
   return coarse_sdf_bytes(coarse) + fine.voxel_count() * (FineSdf::kBytesPerTexel + sizeof(float));
 }
 
+// Room for a quarter more bricks in a deforming mesh's field, so that it
+// seldom packs twice in a frame.
+constexpr float kDeformingSlack = 0.25f;
+
 bool has_volume_to_fit(const Bounds& bounds) {
   const glm::vec3 e = bounds.extent();
   return !bounds.is_empty() && std::max(e.x, std::max(e.y, e.z)) > 0.0f;
@@ -28,7 +32,8 @@ bool has_volume_to_fit(const Bounds& bounds) {
 ObjectFields::ObjectFields(const vk::Context& context)
     : context_(context),
       coarse_passes_(std::make_shared<CoarsePasses>(context)),
-      fine_pass_(std::make_shared<const FineTracePass>(context)) {}
+      fine_pass_(std::make_shared<const FineTracePass>(context)),
+      pack_pass_(std::make_shared<const FieldPackPass>(context)) {}
 
 int ObjectFields::update_limit() const {
   return settings_.updates > 0 ? settings_.updates : 4 * std::max(settings_.fine.interleave, 1);
@@ -51,12 +56,14 @@ void ObjectFields::rebuild(GpuScene& scene, Field& field, const Bounds& bounds, 
                          coarse_grid.voxel_size == field.coarse_grid.voxel_size && coarse_grid.dims == field.coarse_grid.dims;
   if (!field.coarse) field.coarse = std::make_unique<CoarseSdf>(context_, coarse_passes_);
   if (!field.fine) field.fine = std::make_unique<FineSdf>(context_, fine_pass_);
+  if (!field.packed) field.packed = std::make_unique<PackedField>(context_, pack_pass_);
+  field.deforms = field.deforms || deformed;
   field.coarse_grid = coarse_grid;
   field.fine_grid = FineSdf::fit(coarse_grid, fine_resolution);
   field.coarse->build_mesh(scene, field.mesh, coarse_grid, settings_.beta);
   // A kept grid keeps the fine SDF's history (the decay forgets what the
   // deformation moved); anything else starts afresh.
-  if (!same_grid) field.fine->reset();
+  if (!same_grid) field.fine->release();
   field.coarse_resolution = coarse_resolution;
   field.fine_resolution = fine_resolution;
   field.beta = settings_.beta;
@@ -129,60 +136,97 @@ void ObjectFields::sync(GpuScene& scene, const ObjectFieldSettings& settings, Ma
 
   // The march reads each field within the margin a tight grid would have
   // around its mesh: a deforming mesh's room holds only far values.
-  std::vector<GridSpec> grids;
-  std::vector<float> rooms;
-  for (const Field& f : fields_) {
-    grids.push_back(f.fine_grid);
+  for (size_t k = 0; k < fields_.size(); ++k) {
+    const Field& f = fields_[k];
     const int coarse_longest = std::max(f.coarse_grid.dims.x, std::max(f.coarse_grid.dims.y, f.coarse_grid.dims.z));
-    rooms.push_back(float(margin_voxels(coarse_longest)) * f.coarse_grid.voxel_size / f.fine_grid.voxel_size);
+    const float room = float(margin_voxels(coarse_longest)) * f.coarse_grid.voxel_size / f.fine_grid.voxel_size;
+    f.packed->set_layout(f.fine_grid, f.coarse_grid, bounds[k], room);
   }
-  if (march.set_layout(grids, bounds, rooms))
-    for (Field& f : fields_) f.copied = false;
 
   // Place every caster instance of a mesh with a field.
-  std::vector<MarchFields::Placement> placements;
+  placements_.clear();
   instance_voxels_.assign(instances.size(), 0.0f);
   for (uint32_t i : scene.shadow_casters()) {
     auto it = std::lower_bound(meshes.begin(), meshes.end(), instances[i].mesh);
     if (it == meshes.end() || *it != instances[i].mesh) continue;
-    const uint32_t slot = uint32_t(it - meshes.begin());
-    placements.push_back({slot, instances[i].object_to_world});
+    const PackedField& field = *fields_[size_t(it - meshes.begin())].packed;
+    placements_.push_back({&field, instances[i].object_to_world});
     const glm::vec2 stretch = singular_value_range(glm::mat3(instances[i].object_to_world));
-    if (stretch.x > kDegenerateScale * stretch.y) instance_voxels_[i] = march.world_voxel(slot, instances[i].object_to_world);
+    if (stretch.x > kDegenerateScale * stretch.y) instance_voxels_[i] = MarchFields::world_voxel(field, instances[i].object_to_world);
   }
-  march.place(placements);
+  march.place(placements_);
+  for (Field& f : fields_) f.placed_generation = f.packed->generation();
 
   stats_.fields = int(fields_.size());
   stats_.placed = int(march.instance_count());
   stats_.skipped_degenerate = int(march.skipped_degenerate());
-  stats_.bytes = march.pool_bytes();
-  for (const Field& f : fields_) stats_.bytes += coarse_sdf_bytes(f.coarse_grid) + f.fine_grid.voxel_count() * FineSdf::kBytesPerTexel;
+  update_memory_stats();
 }
 
-const FineSdf* ObjectFields::fine_field(uint32_t mesh) const {
+void ObjectFields::update_memory_stats() {
+  stats_.bytes = stats_.dense_bytes = 0;
+  stats_.stored_bricks = stats_.brick_count = 0;
+  for (const Field& f : fields_) {
+    stats_.bytes += f.packed->bytes() + f.coarse->bytes() + f.fine->bytes();
+    stats_.dense_bytes += coarse_sdf_bytes(f.coarse_grid) + f.fine_grid.voxel_count() * (FineSdf::kBytesPerTexel + sizeof(float));
+    stats_.stored_bricks += f.packed->stored_bricks();
+    stats_.brick_count += f.packed->brick_count();
+  }
+  stats_.peak_bytes = std::max(stats_.peak_bytes, stats_.bytes);
+}
+
+const PackedField* ObjectFields::packed_field(uint32_t mesh) const {
   for (const Field& f : fields_)
-    if (f.mesh == mesh && f.fine && f.fine->frames() > 0) return f.fine.get();
+    if (f.mesh == mesh && f.updates > 0) return f.packed.get();
   return nullptr;
+}
+
+void ObjectFields::pack(const std::vector<Field*>& fields) {
+  std::vector<Field*> pending = fields;
+  // A field that outgrew its room has more after the first round: the second always fits.
+  for (int round = 0; !pending.empty(); ++round) {
+    if (round == 2) throw Error("a packed field did not fit the room made for it");
+    context_.submit_and_wait([&](VkCommandBuffer cmd) {
+      for (const Field* f : pending) f->packed->record_pack(cmd, {&f->coarse->distance(), &f->fine->distance(),
+                                                                  settings_.fine.band_world(f->coarse_grid.voxel_size),
+                                                                  f->coarse->beta_world()});
+    });
+    std::vector<Field*> again;
+    for (Field* f : pending)
+      if (!f->packed->settle(f->deforms ? kDeformingSlack : 0.0f)) again.push_back(f);
+    pending = std::move(again);
+  }
 }
 
 void ObjectFields::refine(GpuScene& scene, MarchFields& march) {
   stats_.refined = 0;
   stats_.traced_texels = 0;
+  std::vector<Field*> updated;
   for (Field& f : fields_) {
     if (!due(f)) continue;
     f.fine->update(scene.mesh_rays(f.mesh), *f.coarse, f.fine_grid, settings_.fine);
     stats_.traced_texels += f.fine->read_traced_texels();
     stats_.refined++;
     f.updates++;
-    f.copied = false;
+    updated.push_back(&f);
   }
-  if (std::all_of(fields_.begin(), fields_.end(), [](const Field& f) { return f.copied; })) return;
-  context_.submit_and_wait([&](VkCommandBuffer cmd) {
-    for (uint32_t slot = 0; slot < fields_.size(); ++slot)
-      if (!fields_[slot].copied) march.record_copy(cmd, slot, fields_[slot].fine->distance());
-    MarchFields::record_copies_done(cmd);
-  });
-  for (Field& f : fields_) f.copied = true;
+  if (updated.empty()) return;
+  pack(updated);
+  update_memory_stats();
+  // A refined field needs its SDFs no more, unless the mesh deforms and the
+  // next rebuild is to keep their history.
+  for (Field* f : updated)
+    if (!due(*f) && !(settings_.keep_history && f->deforms)) {
+      f->coarse->release();
+      f->fine->release();
+    }
+  const bool moved = std::any_of(fields_.begin(), fields_.end(),
+                                 [](const Field& f) { return f.placed_generation != f.packed->generation(); });
+  if (moved) {
+    march.place(placements_);
+    for (Field& f : fields_) f.placed_generation = f.packed->generation();
+  }
+  update_memory_stats();
 }
 
 }  // namespace rtsdf

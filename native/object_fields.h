@@ -10,6 +10,9 @@
 //   per-frame path, per mesh).
 // - A field is refined in its first updates after a (re)build, then left
 //   as it is: a still field costs nothing.
+// - The march reads each field packed (PackedField): bricks near the
+//   surfaces, the coarse SDF elsewhere. Once a field is refined its coarse
+//   and fine SDFs are freed, unless the mesh deforms and its history is kept.
 // - Each mesh's voxels come from its own size, under a memory budget.
 #include <cstdint>
 #include <memory>
@@ -45,7 +48,11 @@ struct ObjectFieldStats {
   int regenerated = 0;          // fields (re)built by the last sync
   int refined = 0;              // fields updated by the last refine
   uint64_t traced_texels = 0;   // texels traced by the last refine
-  size_t bytes = 0;             // device memory of the fields
+  size_t bytes = 0;             // device memory of the fields now: packed, and the SDFs of those not freed
+  size_t peak_bytes = 0;        // the most they held since the last sync (while refining: what the budget bounds)
+  size_t dense_bytes = 0;       // what dense grids of the same voxels take (coarse and fine SDFs and a dense copy)
+  uint64_t stored_bricks = 0;   // bricks of fine texels the packed fields hold
+  uint64_t brick_count = 0;     // bricks their fine grids span
   float resolution_scale = 1;   // below 1: resolutions lowered to fit the budget
   int skipped_degenerate = 0;   // instances left out: a scale flattens them
 };
@@ -67,8 +74,8 @@ class ObjectFields {
   bool refining() const;
 
   const ObjectFieldStats& stats() const { return stats_; }
-  // A mesh's fine SDF (in its own space), or null if it has no field or was never refined.
-  const FineSdf* fine_field(uint32_t mesh) const;
+  // A mesh's field as the march reads it (in its own space), or null if it has no field or was never refined.
+  const PackedField* packed_field(uint32_t mesh) const;
   // Per instance of the scene: the world size of its field's voxel (0: in no field).
   const std::vector<float>& instance_voxels() const { return instance_voxels_; }
 
@@ -81,19 +88,27 @@ class ObjectFields {
     GridSpec coarse_grid, fine_grid;
     std::unique_ptr<CoarseSdf> coarse;
     std::unique_ptr<FineSdf> fine;
-    int updates = 0;      // since the last (re)build
-    bool copied = false;  // into the march's pool, since its layout
+    std::unique_ptr<PackedField> packed;
+    int updates = 0;              // since the last (re)build
+    bool unpacked = false;        // updated since its last packing
+    bool deforms = false;         // rebuilt for a deformation since it was made
+    uint64_t placed_generation = 0;  // its packed words' generation when placed
   };
   int update_limit() const;
   bool due(const Field& field) const { return field.updates < update_limit(); }
   void rebuild(GpuScene& scene, Field& field, const Bounds& bounds, int coarse_resolution, int fine_resolution);
+  // Packs the fields for the march, with more room for those that need it.
+  void pack(const std::vector<Field*>& fields);
+  void update_memory_stats();
 
   const vk::Context& context_;
   std::shared_ptr<CoarsePasses> coarse_passes_;
   std::shared_ptr<const FineTracePass> fine_pass_;
+  std::shared_ptr<const FieldPackPass> pack_pass_;
   ObjectFieldSettings settings_;
   uint64_t scene_id_ = 0;
   std::vector<Field> fields_;  // by mesh index, in the march's layout order
+  std::vector<MarchFields::Placement> placements_;
   std::vector<float> instance_voxels_;
   ObjectFieldStats stats_;
 };

@@ -106,6 +106,7 @@ Renderer::Renderer(const vk::Context& context)
       gbuffer_(context),
       shade_(context),
       object_fields_(context),
+      world_field_(context),
       march_(context) {}
 
 void Renderer::validate(int width, int height, const RenderSettings& settings) const {
@@ -125,17 +126,42 @@ void Renderer::validate(int width, int height, const RenderSettings& settings) c
 }
 
 void Renderer::place_world_field(const GridSpec& grid) {
-  march_.set_layout({grid}, {scene_->bounds()});
-  march_.place({{0, glm::mat4(1.0f)}});
+  world_field_.set_layout(grid, coarse_grid_, scene_->bounds());
+  world_field_packed_ = false;
+  march_.place({{&world_field_, glm::mat4(1.0f)}});
   field_voxels_.assign(scene_->instances().size(), 0.0f);
   for (uint32_t i : scene_->shadow_casters()) field_voxels_[i] = grid.voxel_size;
 }
 
-void Renderer::copy_world_field(const vk::Image& distance) {
-  context_.submit_and_wait([&](VkCommandBuffer cmd) {
-    march_.record_copy(cmd, 0, distance);
-    MarchFields::record_copies_done(cmd);
-  });
+void Renderer::pack_world_field(const vk::Image* fine, float band) {
+  const uint64_t placed = world_field_.generation();
+  const PackedField::Source source{&coarse_.distance(), fine, band, fine ? coarse_.beta_world() : 0.0f};
+  for (bool packed = false; !packed;) {
+    context_.submit_and_wait([&](VkCommandBuffer cmd) { world_field_.record_pack(cmd, source); });
+    packed = world_field_.settle(0.25f);  // (the scene's field changes with every move)
+  }
+  world_field_packed_ = true;
+  if (world_field_.generation() != placed) march_.place({{&world_field_, glm::mat4(1.0f)}});
+}
+
+void Renderer::update_field_memory_stats(ShadowMethod method) {
+  constexpr double kMiB = 1 << 20;
+  if (method == ShadowMethod::Rtsdf) {
+    const ObjectFieldStats& objects = object_fields_.stats();
+    stats_.field_mb = double(objects.bytes) / kMiB;
+    stats_.field_peak_mb = double(objects.peak_bytes) / kMiB;
+    stats_.field_dense_mb = double(objects.dense_bytes) / kMiB;
+    stats_.stored_bricks = objects.stored_bricks;
+    stats_.brick_count = objects.brick_count;
+    return;
+  }
+  const bool fine = uses_fine_sdf(method);
+  stats_.field_mb = double(coarse_.bytes() + fine_.bytes() + world_field_.bytes()) / kMiB;
+  stats_.field_peak_mb = std::max(stats_.field_peak_mb, stats_.field_mb);
+  stats_.field_dense_mb =
+      double(coarse_.bytes() + (fine ? fine_grid_.voxel_count() * (FineSdf::kBytesPerTexel + 4) : coarse_grid_.voxel_count() * 4)) / kMiB;
+  stats_.stored_bricks = world_field_.stored_bricks();
+  stats_.brick_count = world_field_.brick_count();
 }
 
 FineTraceSettings Renderer::fine_settings() const {
@@ -157,7 +183,6 @@ void Renderer::rebuild_sdfs(GpuScene& scene, const RenderSettings& settings) {
   if (!has_casters_ || method == ShadowMethod::CsmEvsm) {
     // Nothing to march (csm_evsm needs no SDF): its casters are still told
     // apart from receivers (they look themselves up off their surface).
-    march_.set_layout({}, {});
     march_.place({});
     if (method == ShadowMethod::CsmEvsm)
       for (uint32_t i : scene.shadow_casters()) field_voxels_[i] = 1.0f;
@@ -171,7 +196,7 @@ void Renderer::rebuild_sdfs(GpuScene& scene, const RenderSettings& settings) {
     stats_.fields = objects.fields;
     stats_.field_instances = objects.placed;
     stats_.fields_regenerated = objects.regenerated;
-    stats_.field_mb = double(objects.bytes) / (1 << 20);
+    update_field_memory_stats(method);
     stats_.resolution_scale = objects.resolution_scale;
     stats_.skipped_degenerate = objects.skipped_degenerate;
     return;
@@ -192,12 +217,11 @@ void Renderer::rebuild_sdfs(GpuScene& scene, const RenderSettings& settings) {
     // deformed (nothing, if no caster did), the rest is still converged.
     else if (!changes.everything) changed_region_ = changes.any ? changes.region : Bounds::empty();
     place_world_field(fine_grid_);
-    stats_.field_mb = double(coarse_.bytes() + fine_grid_.voxel_count() * (FineSdf::kBytesPerTexel + 4)) / (1 << 20);
   } else {
     place_world_field(coarse_grid_);
-    copy_world_field(coarse_.distance());
-    stats_.field_mb = double(coarse_.bytes() + coarse_grid_.voxel_count() * 4) / (1 << 20);
+    pack_world_field(nullptr, 0.0f);
   }
+  update_field_memory_stats(method);
 }
 
 void Renderer::begin(GpuScene& scene, const Camera& camera, const std::vector<Light>& lights, glm::vec3 ambient,
@@ -299,13 +323,15 @@ void Renderer::add_frame() {
   stats_.last_frame_traced_texels = 0;
   if (uses_fine_sdf(settings_.shadow_method) && due(fine_updates_)) {
     fine_.update(*scene_, coarse_, fine_grid_, fine_settings(), changed_region_ ? &*changed_region_ : nullptr);
-    copy_world_field(fine_.distance());
+    pack_world_field(&fine_.distance(), fine_settings().band_world(coarse_grid_.voxel_size));
+    update_field_memory_stats(settings_.shadow_method);
     changed_region_.reset();  // later updates go on converging everywhere
     fine_updates_++;
     stats_.last_frame_traced_texels = fine_.read_traced_texels();
   } else if (settings_.shadow_method == ShadowMethod::Rtsdf && has_casters_) {
     // Each field refines in its own first updates; still fields cost nothing.
     object_fields_.refine(*scene_, march_);
+    update_field_memory_stats(settings_.shadow_method);
     stats_.last_frame_traced_texels = object_fields_.stats().traced_texels;
   }
   stats_.traced_texels += stats_.last_frame_traced_texels;

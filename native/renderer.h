@@ -89,7 +89,11 @@ struct RenderStats {
   int fields_regenerated = 0;   // fields (re)built by begin(): voxelized and jump flooded
   uint64_t traced_texels = 0;   // fine texels ray traced since begin()
   uint64_t last_frame_traced_texels = 0;
-  double field_mb = 0.0;        // device memory of the fields
+  double field_mb = 0.0;        // device memory of the fields now (packed, and SDFs still kept for updates)
+  double field_peak_mb = 0.0;   // the most they held since begin() (rtsdf: what field_budget_mb bounds)
+  double field_dense_mb = 0.0;  // what dense grids of the same voxels would take, for comparison
+  uint64_t stored_bricks = 0;   // bricks of fine texels the packed fields hold (see PackedField)
+  uint64_t brick_count = 0;     // bricks their fine grids span
   float resolution_scale = 1;   // rtsdf: below 1, resolutions lowered to fit field_budget_mb
   int skipped_degenerate = 0;   // rtsdf: instances a scale flattens to nothing, left out of the fields
 };
@@ -155,17 +159,25 @@ class Renderer {
   // The whole scene's fine SDF as the last frame left it (rtsdf_world,
   // rt_only; its grid is empty before the first update).
   const FineSdf& fine_sdf() const { return fine_; }
-  // rtsdf: a mesh's own fine SDF (in its object space), null if it has none yet.
-  const FineSdf* mesh_fine_sdf(uint32_t mesh) const { return object_fields_.fine_field(mesh); }
+  // The fields the march reads: with rtsdf, mesh `mesh`'s own (in its
+  // object space); with the whole-scene methods, the scene's (world space).
+  // Null if there is none yet.
+  const PackedField* mesh_field(uint32_t mesh) const { return object_fields_.packed_field(mesh); }
+  const PackedField* world_field() const { return world_field_packed_ ? &world_field_ : nullptr; }
   // csm_evsm's shadow maps as begin() fitted them (null before its first use).
   const ShadowMapPass* shadow_maps() const { return shadow_maps_.get(); }
 
  private:
   void validate(int width, int height, const RenderSettings& settings) const;
   void rebuild_sdfs(GpuScene& scene, const RenderSettings& settings);
-  // Places the whole scene's field (world space) as the one field marched.
+  // Places the whole scene's field (world space, on `grid` with coarse_grid_
+  // as its far field) as the one field marched.
   void place_world_field(const GridSpec& grid);
-  void copy_world_field(const vk::Image& distance);
+  // Packs the whole scene's fine SDF `fine` (null: the coarse SDF alone) into that field.
+  // `band`: the fine SDF's trace band (FineTraceSettings::band_world).
+  void pack_world_field(const vk::Image* fine, float band);
+  // The fields' memory and bricks under `method` into stats_.
+  void update_field_memory_stats(ShadowMethod method);
   FineTraceSettings fine_settings() const;
 
   const vk::Context& context_;
@@ -175,6 +187,8 @@ class Renderer {
   ShadePass shade_;
   std::unique_ptr<ShadowMapPass> shadow_maps_;  // made on first use of csm_evsm
   ObjectFields object_fields_;
+  PackedField world_field_;            // the whole scene's, packed (the whole-scene methods)
+  bool world_field_packed_ = false;
   MarchFields march_;                  // the fields the shading marches
   std::vector<float> field_voxels_;    // per instance: its field's world voxel (0: in none)
 

@@ -1,21 +1,71 @@
-// The distance fields the shadow march reads: every field's texels in one
-// pool (x fastest), each field placed in the world by FieldInstances (one
-// per placed mesh in the object-space design, a single one for the
-// whole-scene fields), and a BVH over the instances' world boxes whose
-// leaves list instances in field_instances order. Needs RTSDF_STACK.
+// The distance fields the shadow march reads: each field's words (bricks
+// near its surfaces, the far field elsewhere: see PackedField and
+// shaders/shared.h) reached by its address, each field placed in the world
+// by FieldInstances (one per placed mesh in the object-space design, a
+// single one for the whole-scene fields), and a BVH over the instances'
+// world boxes whose leaves list instances in field_instances order. Needs
+// RTSDF_STACK, and GL_EXT_buffer_reference and GL_EXT_buffer_reference_uvec2
+// enabled by the shader.
 #include "ray_box.glsl.h"
 
-layout(std430, binding = 3) readonly buffer FieldTexels { float field_texels[]; };
-layout(std430, binding = 11) readonly buffer FieldInstances { FieldInstance field_instances[]; };
-layout(std430, binding = 12) readonly buffer FieldNodes { BvhNode field_nodes[]; };
+layout(std430, binding = 3) readonly buffer FieldInstances { FieldInstance field_instances[]; };
+layout(std430, binding = 11) readonly buffer FieldNodes { BvhNode field_nodes[]; };
+layout(buffer_reference, std430, buffer_reference_align = 4) readonly buffer FieldWords { uint words[]; };
 
 #define RTSDF_MAX_NEARBY_FIELDS 16
 #define RTSDF_FIELD_STACK 32
 // The instances near the part of a ray being marched (see gather_fields).
 uint nearby_fields[RTSDF_MAX_NEARBY_FIELDS];
 
-float field_texel(uint first, ivec3 dims, ivec3 i) {
-  return field_texels[first + uint(i.x + dims.x * (i.y + dims.y * i.z))];
+// Texels `index` and `index + 1` of half floats packed from word `first` on.
+vec2 texel_pair(FieldWords store, uint first, uint index) {
+  vec2 lower = unpackHalf2x16(store.words[first + (index >> 1u)]);
+  if ((index & 1u) == 0u) return lower;
+  return vec2(lower.y, unpackHalf2x16(store.words[first + (index >> 1u) + 1u]).x);
+}
+
+// Trilinear of 8 texels given as four pairs along x.
+float trilinear(vec2 y0z0, vec2 y1z0, vec2 y0z1, vec2 y1z1, vec3 w) {
+  float c00 = mix(y0z0.x, y0z0.y, w.x), c10 = mix(y1z0.x, y1z0.y, w.x);
+  float c01 = mix(y0z1.x, y0z1.y, w.x), c11 = mix(y1z1.x, y1z1.y, w.x);
+  return mix(mix(c00, c10, w.y), mix(c01, c11, w.y), w.z);
+}
+
+// The far field at q (the fine grid's voxel space): trilinear over the
+// coarse texels, clamped at the grid's faces.
+float far_field_at(FieldInstance f, FieldWords store, vec3 q) {
+  ivec3 dims = f.far_dims.xyz;
+  vec3 s = q * f.box_lo.w - 0.5;
+  // The cell whose texels surround q; at the faces, the outer one (weights clamp to its texels).
+  ivec3 cell = clamp(ivec3(floor(s)), ivec3(0), max(dims - 2, ivec3(0)));
+  vec3 w = clamp(s - vec3(cell), 0.0, 1.0);
+  ivec3 step = ivec3(min(cell + 1, dims - 1) - cell);  // 0 along an axis one texel thick
+  uint row = uint(f.far_dims.w), slab = row * uint(dims.y);
+  uint t = uint(cell.x) + row * uint(cell.y) + slab * uint(cell.z);
+  uint dy = row * uint(step.y), dz = slab * uint(step.z);
+  vec2 y0z0 = texel_pair(store, f.store.z, t), y1z0 = texel_pair(store, f.store.z, t + dy);
+  vec2 y0z1 = texel_pair(store, f.store.z, t + dz), y1z1 = texel_pair(store, f.store.z, t + dy + dz);
+  if (step.x == 0) w.x = 0.0;
+  return trilinear(y0z0, y1z0, y0z1, y1z1, w);
+}
+
+// The field at q (its voxel space, inside the grid), in its voxels: from
+// the brick that holds q's cell where one is stored, else the far field.
+float field_value_at(FieldInstance f, vec3 q) {
+  FieldWords store = FieldWords(f.store.xy);
+  ivec3 dims = f.dims.xyz;
+  vec3 s = q - 0.5;
+  ivec3 cell = clamp(ivec3(floor(s)), ivec3(0), max(dims - 2, ivec3(0)));
+  vec3 w = clamp(s - vec3(cell), 0.0, 1.0);
+  ivec3 brick = cell / int(kBrickCells);
+  ivec3 bricks = max(dims - 2, ivec3(0)) / int(kBrickCells) + 1;
+  uint slot = store.words[kBrickTableFirst + uint(brick.x + bricks.x * (brick.y + bricks.y * brick.z))];
+  if (slot >= uint(f.dims.w)) return far_field_at(f, store, q);
+  ivec3 local = cell - brick * int(kBrickCells);
+  uint first = f.store.w + slot * kBrickWords;
+  uint t = uint(local.x + 8 * (local.y + 8 * local.z));
+  return trilinear(texel_pair(store, first, t), texel_pair(store, first, t + 8u), texel_pair(store, first, t + 64u),
+                   texel_pair(store, first, t + 72u), w);
 }
 
 const float kFarAway = 3.0e38;
@@ -31,23 +81,12 @@ const float kFarAway = 3.0e38;
 // Outside the box the step's bound is the distance to what the field holds
 // (its box less the margin).
 vec3 field_distance_at(FieldInstance f, vec3 q) {
-  ivec3 dims = ivec3(f.texels.yzw);
   if (any(lessThan(q, f.box_lo.xyz)) || any(greaterThan(q, f.box_hi.xyz))) {
-    float margin = f.scale.w;
-    return vec3(length(q - clamp(q, f.box_lo.xyz + margin, f.box_hi.xyz - margin)) * f.scale.y, kFarAway, f.scale.z);
+    float margin = f.scale.z;
+    return vec3(length(q - clamp(q, f.box_lo.xyz + margin, f.box_hi.xyz - margin)) * f.scale.x, kFarAway, f.scale.y);
   }
-  vec3 s = q - 0.5;
-  vec3 base = floor(s);
-  vec3 w = clamp(s - base, 0.0, 1.0);
-  ivec3 top = dims - 1;
-  ivec3 i0 = clamp(ivec3(base), ivec3(0), top), i1 = clamp(ivec3(base) + 1, ivec3(0), top);
-  uint first = f.texels.x;
-  float c00 = mix(field_texel(first, dims, ivec3(i0.x, i0.y, i0.z)), field_texel(first, dims, ivec3(i1.x, i0.y, i0.z)), w.x);
-  float c10 = mix(field_texel(first, dims, ivec3(i0.x, i1.y, i0.z)), field_texel(first, dims, ivec3(i1.x, i1.y, i0.z)), w.x);
-  float c01 = mix(field_texel(first, dims, ivec3(i0.x, i0.y, i1.z)), field_texel(first, dims, ivec3(i1.x, i0.y, i1.z)), w.x);
-  float c11 = mix(field_texel(first, dims, ivec3(i0.x, i1.y, i1.z)), field_texel(first, dims, ivec3(i1.x, i1.y, i1.z)), w.x);
-  float h = mix(mix(c00, c10, w.y), mix(c01, c11, w.y), w.z) * f.scale.x;
-  return vec3(h, h, f.scale.z);
+  float h = field_value_at(f, q) * f.scale.x;
+  return vec3(h, h, f.scale.y);
 }
 
 vec3 field_distance(uint index, vec3 world) {

@@ -1,5 +1,7 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
+#extension GL_EXT_buffer_reference : require
+#extension GL_EXT_buffer_reference_uvec2 : require
 // Shading: Lambert direct light times visibility, plus the world colour,
 // averaged over accumulation frames (each with its own sub-pixel and
 // shadow-origin jitter). Visibility (pc.visibility.x) either marches an SDF
@@ -26,7 +28,7 @@ layout(binding = 8, rgba32f) uniform readonly image2D shadow_atlas;  // EVSM mom
 layout(std430, binding = 9) readonly buffer ShadowTiles { ShadowTile shadow_tiles[]; };
 layout(std430, binding = 10) readonly buffer ShadowLights { ShadowLightTiles shadow_lights[]; };
 layout(push_constant) uniform Push { ShadePush pc; };
-#include "sdf_fields.glsl.h"  // bindings 3, 11, 12: the fields marched
+#include "sdf_fields.glsl.h"  // bindings 3, 11: the fields marched
 
 float hash(uvec3 v) {
   v = v * 1664525u + 1013904223u;

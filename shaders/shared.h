@@ -121,19 +121,52 @@ const uint kVisibilitySignedSdf = 0u;    // march signed fields: fine SDFs (rtsd
 const uint kVisibilityUnsignedSdf = 1u;  // march an unsigned field: the coarse SDF (jfa_only)
 const uint kVisibilityShadowMaps = 2u;   // look up EVSM shadow maps (csm_evsm)
 
-// A distance field placed in the world, as the shadow march reads it
-// (shaders/sdf_fields.glsl.h). Its texels lie in the field pool, x fastest.
-// Distances are stored in the field's own units; a transform that scales
-// unevenly stretches them, so they are scaled by the smallest singular value
-// of the transform, which never overstates a distance.
+// A distance field as the shadow march reads it (native/packed_field.h,
+// shaders/sdf_fields.glsl.h): one device buffer of 32-bit words reached by
+// its address. Word 0 counts the stored bricks; words kBrickTableFirst on
+// hold one entry per brick of the fine grid (its slot, or kNoBrick); then the
+// far field (the coarse grid's distances, x fastest, rows of an even length);
+// then the bricks. Distances are in voxels of the fine grid, as half floats,
+// two to a word (the lower half first).
+// A brick holds 8^3 fine texels, x fastest, and covers the 7^3 cells between
+// them: neighbouring bricks share a face of texels, so a trilinear sample
+// reads one brick. Bricks are stored where the fine SDF was traced (near
+// surfaces); elsewhere the fine SDF holds the coarse distance, which the far
+// field gives.
+const uint kBrickTexels = 8u;
+const uint kBrickCells = 7u;
+const uint kBrickWords = 256u;
+const uint kBrickTableFirst = 1u;
+const uint kNoBrick = 0xFFFFFFFFu;
+// Half floats reach 65504: distances are clamped within, in voxels.
+const float kMaxPackedDistance = 60000.0;
+
+// A field placed in the world. A transform that scales unevenly stretches
+// distances, so they are scaled by the smallest singular value of the
+// transform, which never overstates a distance.
 struct FieldInstance {
   mat4 world_to_field;  // world -> the field's voxel space (voxel i spans [i, i+1))
-  vec4 scale;           // x = world units per field unit (at least), y = world units per voxel (at least),
-                        // z = world size of a voxel (at most: for clearances and step limits),
-                        // w = voxels between the box's faces and what the field holds (its margin, on every side)
-  uvec4 texels;         // x = the field's first texel in the pool, yzw = its dims
-  vec4 box_lo;          // xyz: the part of the field the march reads, in its voxel space: what it holds
-  vec4 box_hi;          // grown by the margin (a grid with room for motion has more, of far values only)
+  vec4 scale;           // x = world units per voxel (at least), y = world size of a voxel (at most: for
+                        // clearances and step limits), z = voxels between the box's faces and what the field
+                        // holds (its margin, on every side)
+  uvec4 store;          // xy = device address of the field's words, z = first word of the far field,
+                        // w = first word of the bricks
+  ivec4 dims;           // xyz = the fine grid's texels, w = bricks the store has room for
+  ivec4 far_dims;       // xyz = the far field's texels (its grid shares the fine grid's origin), w = its row length
+  vec4 box_lo;          // xyz: the part of the field the march reads, in its voxel space: what it holds,
+  vec4 box_hi;          // grown by the margin (a grid with room for motion has more, of far values only);
+                        // box_lo.w = far-field voxels per fine voxel
+};
+
+// Packs a fine SDF and its coarse SDF into a field's words (passes/field_pack).
+struct FieldPackPush {
+  uvec4 store;        // as FieldInstance.store
+  ivec4 dims;         // xyz = the fine grid's texels, w = bricks the store has room for
+  ivec4 coarse_dims;  // the far field's (coarse grid's) texels, w = its row length (even)
+  vec4 fine_grid;     // xyz = origin, w = voxel size (world)
+  vec4 coarse_grid;   // xyz = origin, w = voxel size (world)
+  vec4 params;        // x = the trace band (a texel whose coarse distance is at most this was traced),
+                      // y = added to the coarse distances (the fine SDF's far field is c + beta)
 };
 
 struct ShadePush {
@@ -186,7 +219,8 @@ static_assert(sizeof(GpuLight) == 64, "GpuLight layout");
 static_assert(sizeof(FrameData) == 112 + 32 * kMaxSkyBlockers, "FrameData layout");
 static_assert(sizeof(GBufferPush) == 96, "GBufferPush layout");
 static_assert(sizeof(ShadePush) == 96, "ShadePush layout");
-static_assert(sizeof(FieldInstance) == 128, "FieldInstance layout");
+static_assert(sizeof(FieldInstance) == 160, "FieldInstance layout");
+static_assert(sizeof(FieldPackPush) == 96, "FieldPackPush layout");
 static_assert(sizeof(ShadowTile) == 112, "ShadowTile layout");
 static_assert(sizeof(ShadowLightTiles) == 16, "ShadowLightTiles layout");
 static_assert(sizeof(ShadowMapPush) == 96, "ShadowMapPush layout");

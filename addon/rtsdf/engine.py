@@ -194,9 +194,12 @@ class RTSDFRenderEngine(bpy.types.RenderEngine):
 
 def field_summary(stats, per_frame=False):
     """The distance fields in a few words: how many (shared by how many
-    instances), their memory, and the work done (meshes rebuilt, texels traced)."""
+    instances), their memory (and the share of bricks stored near surfaces),
+    and the work done (meshes rebuilt, texels traced)."""
     traced = stats["last_frame_traced_texels"] if per_frame else stats["traced_texels"]
-    return (f"{stats['fields']} fields for {stats['field_instances']} instances, {stats['field_mb']:.0f} MB | "
+    bricks = stats["brick_count"]
+    occupancy = f" ({stats['stored_bricks'] / bricks:.0%} of bricks)" if bricks else ""
+    return (f"{stats['fields']} fields for {stats['field_instances']} instances, {stats['field_mb']:.1f} MB{occupancy} | "
             f"{stats['fields_regenerated']} rebuilt, {traced:,} texels traced")
 
 

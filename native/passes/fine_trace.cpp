@@ -36,6 +36,10 @@ void compute_barrier(VkCommandBuffer cmd, VkPipelineStageFlags dst_stage = VK_PI
 
 }  // namespace
 
+float FineTraceSettings::band_world(float coarse_voxel) const {
+  return trace_everywhere ? std::numeric_limits<float>::max() : trace_band * coarse_voxel;
+}
+
 FineTracePass::FineTracePass(const vk::Context& context)
     : classify_(context, RTSDF_SPIRV(spirv_fine_classify_comp), {kImage, kImage, kImage, kBuffer},
                 sizeof(gpu::FinePush)),
@@ -60,7 +64,7 @@ void FineTracePass::record(VkCommandBuffer cmd, const GpuScene::RayTargets& scen
   push.coarse_grid = glm::vec4(coarse_grid.origin, coarse_voxel);
   // Rays need only reach past the band: a hit farther than band + the upper
   // bound cannot lower any value the texel can hold.
-  const float band = settings.trace_everywhere ? std::numeric_limits<float>::max() : settings.trace_band * coarse_voxel;
+  const float band = settings.band_world(coarse_voxel);
   const float ray_length = settings.trace_everywhere
                                ? glm::length(extent)
                                : std::min(glm::length(extent), (settings.trace_band + 2.0f) * coarse_voxel + bias);

@@ -24,6 +24,10 @@ struct FineTraceSettings {
   // The RT-only baseline: no band. Every texel of the grid is listed (the band
   // and the interleave are ignored) and its rays are long enough to cross the grid.
   bool trace_everywhere = false;
+
+  // The band in world units on a coarse grid of `coarse_voxel`: texels whose
+  // coarse distance is at most this are traced.
+  float band_world(float coarse_voxel) const;
 };
 
 class FineTracePass {

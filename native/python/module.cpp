@@ -195,6 +195,10 @@ py::dict stats_of(const rtsdf::RenderStats& s) {
   stats["traced_texels"] = s.traced_texels;
   stats["last_frame_traced_texels"] = s.last_frame_traced_texels;
   stats["field_mb"] = s.field_mb;
+  stats["field_peak_mb"] = s.field_peak_mb;
+  stats["field_dense_mb"] = s.field_dense_mb;
+  stats["stored_bricks"] = s.stored_bricks;
+  stats["brick_count"] = s.brick_count;
   stats["resolution_scale"] = s.resolution_scale;
   stats["skipped_degenerate"] = s.skipped_degenerate;
   return stats;
@@ -300,19 +304,20 @@ class Viewport {
     return result;
   }
 
-  // The fine SDF as the last draw left it, for inspection: {space, origin,
-  // voxel_size, distance (z, y, x)}: mesh `mesh`'s own field in its object
-  // space (rtsdf), else the whole scene's in world space; None before the
-  // first fine-SDF update.
+  // The field the march reads, as the last draw left it, for inspection:
+  // {space, origin, voxel_size, distance (z, y, x)}: mesh `mesh`'s own field
+  // in its object space (rtsdf), else the whole scene's in world space; its
+  // texels from the bricks near surfaces and the far field elsewhere (see
+  // PackedField). None before the first fine-SDF update.
   py::object fine_sdf(uint32_t mesh) const {
-    const rtsdf::FineSdf* own = renderer_.mesh_fine_sdf(mesh);
-    const rtsdf::FineSdf& fine = own ? *own : renderer_.fine_sdf();
-    const rtsdf::GridSpec& grid = fine.grid();
-    if (grid.voxel_count() == 0 || fine.frames() == 0) return py::none();
+    const rtsdf::PackedField* own = renderer_.mesh_field(mesh);
+    const rtsdf::PackedField* field = own ? own : renderer_.world_field();
+    if (!field) return py::none();
+    const rtsdf::GridSpec grid = field->grid();
     std::vector<float> values;
     {
       py::gil_scoped_release release;
-      values = fine.read_distance();
+      values = field->read_texels();
     }
     py::array_t<float> distance({grid.dims.z, grid.dims.y, grid.dims.x});
     std::copy(values.begin(), values.end(), distance.mutable_data());

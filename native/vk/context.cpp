@@ -150,6 +150,11 @@ std::string unsuitability(VkPhysicalDevice physical) {
   if (!features.fragmentStoresAndAtomics) return "no fragmentStoresAndAtomics";
   if (!features.geometryShader) return "no geometryShader (needed for gl_PrimitiveID)";
   if (!has_device_extension(physical, VK_KHR_PUSH_DESCRIPTOR_EXTENSION_NAME)) return "no VK_KHR_push_descriptor";
+  VkPhysicalDeviceVulkan12Features features12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};
+  VkPhysicalDeviceFeatures2 features2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2};
+  features2.pNext = &features12;
+  vkGetPhysicalDeviceFeatures2(physical, &features2);
+  if (!features12.bufferDeviceAddress) return "no bufferDeviceAddress (the march reads each field through its address)";
   return {};
 }
 
@@ -249,7 +254,10 @@ Context::Context(const ContextOptions& options) {
     features.fragmentStoresAndAtomics = VK_TRUE;
     features.geometryShader = VK_TRUE;
     const char* extensions[] = {VK_KHR_PUSH_DESCRIPTOR_EXTENSION_NAME};
+    VkPhysicalDeviceVulkan12Features features12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};
+    features12.bufferDeviceAddress = VK_TRUE;
     VkDeviceCreateInfo device_info{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO};
+    device_info.pNext = &features12;
     device_info.queueCreateInfoCount = 1;
     device_info.pQueueCreateInfos = &queue_info;
     device_info.pEnabledFeatures = &features;

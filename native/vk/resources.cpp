@@ -10,8 +10,11 @@ namespace rtsdf::vk {
 namespace {
 
 VkDeviceMemory allocate(const Context& context, const VkMemoryRequirements& requirements,
-                        VkMemoryPropertyFlags flags) {
+                        VkMemoryPropertyFlags flags, bool device_address = false) {
+  VkMemoryAllocateFlagsInfo address_info{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_FLAGS_INFO};
+  address_info.flags = VK_MEMORY_ALLOCATE_DEVICE_ADDRESS_BIT;
   VkMemoryAllocateInfo info{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
+  if (device_address) info.pNext = &address_info;
   info.allocationSize = requirements.size;
   info.memoryTypeIndex = context.memory_type(requirements.memoryTypeBits, flags);
   VkDeviceMemory memory = VK_NULL_HANDLE;
@@ -37,8 +40,14 @@ Buffer::Buffer(const Context& context, VkDeviceSize size, VkBufferUsageFlags usa
     VkMemoryPropertyFlags flags = access == Access::HostVisible
                                       ? VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT
                                       : VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT;
-    memory_ = allocate(context, requirements, flags);
+    const bool addressed = (usage & VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT) != 0;
+    memory_ = allocate(context, requirements, flags, addressed);
     VK_CHECK(vkBindBufferMemory(device_, buffer_, memory_, 0));
+    if (addressed) {
+      VkBufferDeviceAddressInfo address{VK_STRUCTURE_TYPE_BUFFER_DEVICE_ADDRESS_INFO};
+      address.buffer = buffer_;
+      address_ = vkGetBufferDeviceAddress(device_, &address);
+    }
     if (access == Access::HostVisible) VK_CHECK(vkMapMemory(device_, memory_, 0, VK_WHOLE_SIZE, 0, &mapped_));
   } catch (...) {
     release();
@@ -58,6 +67,7 @@ Buffer& Buffer::operator=(Buffer&& other) noexcept {
     memory_ = std::exchange(other.memory_, VK_NULL_HANDLE);
     size_ = std::exchange(other.size_, 0);
     mapped_ = std::exchange(other.mapped_, nullptr);
+    address_ = std::exchange(other.address_, 0);
   }
   return *this;
 }
@@ -68,6 +78,7 @@ void Buffer::release() {
   buffer_ = VK_NULL_HANDLE;
   memory_ = VK_NULL_HANDLE;
   mapped_ = nullptr;
+  address_ = 0;
 }
 
 namespace {

@@ -25,6 +25,9 @@ class Buffer {
   VkBuffer handle() const { return buffer_; }
   VkDeviceSize size() const { return size_; }
   void* mapped() const { return mapped_; }  // host-visible buffers only
+  // Where shaders reach it through a buffer reference (buffers made with
+  // VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT only; 0 otherwise).
+  VkDeviceAddress device_address() const { return address_; }
   explicit operator bool() const { return buffer_ != VK_NULL_HANDLE; }
 
  private:
@@ -34,6 +37,7 @@ class Buffer {
   VkDeviceMemory memory_ = VK_NULL_HANDLE;
   VkDeviceSize size_ = 0;
   void* mapped_ = nullptr;
+  VkDeviceAddress address_ = 0;
 };
 
 // A device image: a volume (dims.z > 1, e.g. seeds or distances) or a plane

@@ -60,7 +60,8 @@ class QuickRun(unittest.TestCase):
             with open(os.path.join(out, "results.csv"), newline="") as f:
                 reader = csv.DictReader(f)
                 self.assertEqual(reader.fieldnames, ["scene", "method", "setting", "ms_per_frame", "shadow_rmse",
-                                                     "ssim", "flicker", "ghost_frames", "leak"])
+                                                     "ssim", "flicker", "ghost_frames", "leak", "field_mb",
+                                                     "dense_mb"])
                 rows = list(reader)
             methods = {row["method"] for row in rows}
             self.assertEqual(methods, {"cycles", "rtsdf", "rtsdf_world", "rt_only", "jfa_only", "csm_evsm", "eevee"})
@@ -70,6 +71,8 @@ class QuickRun(unittest.TestCase):
                     self.assertTrue(0.0 <= float(row["shadow_rmse"]) < 1.0, row)
             # The still scene's default rtsdf setting: no ghost left after the move.
             first = next(row for row in rows if row["method"] == "rtsdf")
+            # Its refined fields keep their bricks and far fields, not dense grids.
+            self.assertLess(float(first["field_mb"]), float(first["dense_mb"]) / 4, first)
             self.assertEqual(first["ghost_frames"], "1", first)
             self.assertGreater(os.path.getsize(os.path.join(out, "speed_accuracy.png")), 10000)
             with open(os.path.join(out, "summary.md")) as f:

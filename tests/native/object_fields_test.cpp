@@ -3,6 +3,7 @@
 // mesh that changed, non-uniform scale stays conservative, and the memory
 // budget coarsens fields instead of failing.
 #include <cmath>
+#include <cstdio>
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "error.h"
@@ -224,6 +225,22 @@ TEST_F(ObjectFieldsTest, NonUniformScaleLosesNoShadow) {
   EXPECT_EQ(lost, 0) << "umbra pixels of the exact ellipsoid lit under the scaled sphere";
 }
 
+TEST_F(ObjectFieldsTest, RefinedRigidFieldsKeepOnlyTheirBricks) {
+  GpuScene gpu_scene(context(), sphere_box_ground());
+  RenderSettings settings;
+  settings.samples = 6;  // past the fields' 4 updates
+  Renderer renderer(context());
+  const RenderOutput out = renderer.render(gpu_scene, top_view(3.0f), {overhead_sun()}, glm::vec3(0.1f), 64, 64, settings);
+  EXPECT_FALSE(renderer.refining());
+  EXPECT_GT(out.stats.stored_bricks, 0u);
+  EXPECT_LT(out.stats.stored_bricks, out.stats.brick_count) << "bricks only near the surfaces";
+  EXPECT_GT(out.stats.field_peak_mb, 2.0 * out.stats.field_mb) << "the SDFs are freed once refined";
+  EXPECT_LE(out.stats.field_mb, out.stats.field_dense_mb / 4.0);
+  std::printf("fields: %.2f MB (peak %.2f, dense %.2f), %llu of %llu bricks stored\n", out.stats.field_mb,
+              out.stats.field_peak_mb, out.stats.field_dense_mb, (unsigned long long)out.stats.stored_bricks,
+              (unsigned long long)out.stats.brick_count);
+}
+
 TEST_F(ObjectFieldsTest, OverBudgetFieldsAreCoarsenedNotRefused) {
   GpuScene gpu_scene(context(), sphere_box_ground());
   RenderSettings settings;
@@ -234,8 +251,9 @@ TEST_F(ObjectFieldsTest, OverBudgetFieldsAreCoarsenedNotRefused) {
   settings.field_budget_mb = 8.0;
   const RenderOutput small = renderer.render(gpu_scene, top_view(3.0f), {overhead_sun()}, glm::vec3(0.1f), 64, 64, settings);
   EXPECT_LT(small.stats.resolution_scale, 1.0f);
-  EXPECT_LE(small.stats.field_mb, 8.0);
-  EXPECT_GT(full.stats.field_mb, 8.0);
+  EXPECT_LE(small.stats.field_peak_mb, 8.0);
+  EXPECT_GT(full.stats.field_peak_mb, 8.0);
+  EXPECT_LE(small.stats.field_mb, small.stats.field_peak_mb);
   int dark = 0;
   for (float v : small.shadow) dark += v < 0.2f;
   EXPECT_GT(dark, 50) << "coarser fields still cast shadows";

@@ -1,0 +1,34 @@
+#include "passes/field_pack.h"
+
+#include "spirv/spirv_field_bricks_comp.h"
+#include "spirv/spirv_field_far_comp.h"
+#include "vk/context.h"
+
+namespace rtsdf {
+
+namespace {
+constexpr VkDescriptorType kImage = VK_DESCRIPTOR_TYPE_STORAGE_IMAGE;
+}  // namespace
+
+FieldPackPass::FieldPackPass(const vk::Context& context)
+    : far_(context, RTSDF_SPIRV(spirv_field_far_comp), {kImage}, sizeof(gpu::FieldPackPush)),
+      bricks_(context, RTSDF_SPIRV(spirv_field_bricks_comp), {kImage, kImage}, sizeof(gpu::FieldPackPush)) {}
+
+void FieldPackPass::record(VkCommandBuffer cmd, const gpu::FieldPackPush& push, const vk::Image& coarse,
+                           const vk::Image* fine, glm::ivec3 bricks) const {
+  far_.bind(cmd);
+  far_.push_descriptors(cmd, {vk::Resource::storage_image(coarse)});
+  far_.push_constants(cmd, push);
+  vk::dispatch_grid(cmd, glm::ivec3((push.coarse_dims.x + 1) / 2, push.coarse_dims.y, push.coarse_dims.z));
+  if (fine) {
+    bricks_.bind(cmd);
+    bricks_.push_descriptors(cmd, {vk::Resource::storage_image(coarse), vk::Resource::storage_image(*fine)});
+    bricks_.push_constants(cmd, push);
+    vkCmdDispatch(cmd, uint32_t(bricks.x), uint32_t(bricks.y), uint32_t(bricks.z));
+  }
+  vk::memory_barrier(cmd, VK_ACCESS_SHADER_WRITE_BIT, VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_TRANSFER_READ_BIT,
+                     VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                     VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT);
+}
+
+}  // namespace rtsdf
