@@ -75,7 +75,8 @@ void PackedField::set_layout(const GridSpec& grid, const GridSpec& far_grid, con
 }
 
 void PackedField::allocate(uint32_t capacity) {
-  const size_t words = size_t(bricks_first_) + size_t(capacity) * gpu::kBrickWords;
+  // (and a word to spare: the march reads texels in pairs of words)
+  const size_t words = size_t(bricks_first_) + size_t(capacity) * gpu::kBrickWords + 1;
   if (words > size_t(UINT32_MAX)) throw Error("a distance field holds more than 2^32 words: lower the resolution");
   const size_t bytes = words * sizeof(uint32_t);
   if (bytes > context_.device_local_heap_bytes() / 2)

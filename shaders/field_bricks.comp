@@ -3,35 +3,44 @@
 #extension GL_EXT_buffer_reference : require
 #extension GL_EXT_buffer_reference_uvec2 : require
 // Packing a field, step 2: one work group per brick of the fine grid. A
-// brick is stored if one of its texels lies in the trace band (coarse
-// distance at most d, as fine_classify.comp lists them): the texels the fine
-// SDF traced. The others hold the far field's values, which the march reads
-// from the far field instead. Texels are stored in fine voxels as half
-// floats, two to a word. Slots past the store's room are not written (the
-// host sees the count, makes room and packs again).
+// brick is stored if a coarse texel that its texels' coarse samples read
+// lies in the trace band (at most d): every texel the fine SDF traced (a
+// trilinear sample is never below all its corners) and a few more. The
+// other bricks hold the far field's values, which the march reads from the
+// far field instead. Texels are stored in fine voxels as half floats, two to
+// a word; each invocation packs one row of 8. Slots past the store's room
+// are not written (the host sees the count, makes room and packs again).
 #include "shared.h"
 
-layout(local_size_x = 8, local_size_y = 8, local_size_z = 8) in;
+layout(local_size_x = 64) in;
 layout(binding = 0, r32f) uniform readonly image3D coarse;
 layout(binding = 1, r32f) uniform readonly image3D fine;
 layout(buffer_reference, std430, buffer_reference_align = 4) buffer FieldWords { uint words[]; };
 layout(push_constant) uniform Push { FieldPackPush pc; };
 
-#include "coarse_sample.glsl.h"
-
 shared uint in_band;
 shared uint slot;
-shared float texels[kBrickTexels * kBrickTexels * kBrickTexels];
+
+// The coarse voxel space's coordinate of a fine texel's centre.
+vec3 coarse_coordinate(ivec3 texel) {
+  return (pc.fine_grid.xyz + (vec3(texel) + 0.5) * pc.fine_grid.w - pc.coarse_grid.xyz) / pc.coarse_grid.w - 0.5;
+}
 
 void main() {
   ivec3 brick = ivec3(gl_WorkGroupID);
-  ivec3 texel = min(brick * int(kBrickCells) + ivec3(gl_LocalInvocationID), pc.dims.xyz - 1);
   uint local = gl_LocalInvocationIndex;
+  ivec3 first = brick * int(kBrickCells), last = min(first + int(kBrickCells), pc.dims.xyz - 1);
   if (local == 0u) in_band = 0u;
   barrier();
-  vec3 centre = pc.fine_grid.xyz + (vec3(texel) + 0.5) * pc.fine_grid.w;
-  if (sample_coarse(centre) <= pc.params.x) atomicOr(in_band, 1u);
-  texels[local] = clamp(imageLoad(fine, texel).x / pc.fine_grid.w, -kMaxPackedDistance, kMaxPackedDistance);
+  ivec3 top = pc.coarse_dims.xyz - 1;
+  ivec3 lo = clamp(ivec3(floor(coarse_coordinate(first))), ivec3(0), top);
+  ivec3 hi = clamp(ivec3(floor(coarse_coordinate(last))) + 1, ivec3(0), top);
+  ivec3 extent = hi - lo + 1;
+  uint footprint = uint(extent.x * extent.y * extent.z);
+  for (uint i = local; i < footprint; i += 64u) {
+    ivec3 c = lo + ivec3(int(i) % extent.x, (int(i) / extent.x) % extent.y, int(i) / (extent.x * extent.y));
+    if (imageLoad(coarse, c).x <= pc.params.x) atomicOr(in_band, 1u);
+  }
   barrier();
   FieldWords store = FieldWords(pc.store.xy);
   if (local == 0u) {
@@ -41,6 +50,13 @@ void main() {
     store.words[kBrickTableFirst + entry] = slot < uint(pc.dims.w) ? slot : kNoBrick;
   }
   barrier();
-  if (slot >= uint(pc.dims.w) || local >= kBrickWords) return;
-  store.words[pc.store.w + slot * kBrickWords + local] = packHalf2x16(vec2(texels[2u * local], texels[2u * local + 1u]));
+  if (slot >= uint(pc.dims.w)) return;
+  // Row `local` of the brick (y = local % 8, z = local / 8): 8 texels, 4 words.
+  ivec3 row = min(first + ivec3(0, int(local % kBrickTexels), int(local / kBrickTexels)), pc.dims.xyz - 1);
+  uint word = pc.store.w + slot * kBrickWords + local * (kBrickTexels / 2u);
+  for (int x = 0; x < int(kBrickTexels); x += 2) {
+    ivec3 a = ivec3(min(row.x + x, pc.dims.x - 1), row.yz), b = ivec3(min(row.x + x + 1, pc.dims.x - 1), row.yz);
+    vec2 pair = vec2(imageLoad(fine, a).x, imageLoad(fine, b).x) / pc.fine_grid.w;
+    store.words[word + uint(x / 2)] = packHalf2x16(clamp(pair, -kMaxPackedDistance, kMaxPackedDistance));
+  }
 }

@@ -17,55 +17,47 @@ layout(buffer_reference, std430, buffer_reference_align = 4) readonly buffer Fie
 // The instances near the part of a ray being marched (see gather_fields).
 uint nearby_fields[RTSDF_MAX_NEARBY_FIELDS];
 
-// Texels `index` and `index + 1` of half floats packed from word `first` on.
+// Texels `index` and `index + 1` of half floats packed from word `first` on
+// (two words read either way: a select, not a branch, for SIMD lanes that differ).
 vec2 texel_pair(FieldWords store, uint first, uint index) {
-  vec2 lower = unpackHalf2x16(store.words[first + (index >> 1u)]);
-  if ((index & 1u) == 0u) return lower;
-  return vec2(lower.y, unpackHalf2x16(store.words[first + (index >> 1u) + 1u]).x);
-}
-
-// Trilinear of 8 texels given as four pairs along x.
-float trilinear(vec2 y0z0, vec2 y1z0, vec2 y0z1, vec2 y1z1, vec3 w) {
-  float c00 = mix(y0z0.x, y0z0.y, w.x), c10 = mix(y1z0.x, y1z0.y, w.x);
-  float c01 = mix(y0z1.x, y0z1.y, w.x), c11 = mix(y1z1.x, y1z1.y, w.x);
-  return mix(mix(c00, c10, w.y), mix(c01, c11, w.y), w.z);
-}
-
-// The far field at q (the fine grid's voxel space): trilinear over the
-// coarse texels, clamped at the grid's faces.
-float far_field_at(FieldInstance f, FieldWords store, vec3 q) {
-  ivec3 dims = f.far_dims.xyz;
-  vec3 s = q * f.box_lo.w - 0.5;
-  // The cell whose texels surround q; at the faces, the outer one (weights clamp to its texels).
-  ivec3 cell = clamp(ivec3(floor(s)), ivec3(0), max(dims - 2, ivec3(0)));
-  vec3 w = clamp(s - vec3(cell), 0.0, 1.0);
-  ivec3 step = ivec3(min(cell + 1, dims - 1) - cell);  // 0 along an axis one texel thick
-  uint row = uint(f.far_dims.w), slab = row * uint(dims.y);
-  uint t = uint(cell.x) + row * uint(cell.y) + slab * uint(cell.z);
-  uint dy = row * uint(step.y), dz = slab * uint(step.z);
-  vec2 y0z0 = texel_pair(store, f.store.z, t), y1z0 = texel_pair(store, f.store.z, t + dy);
-  vec2 y0z1 = texel_pair(store, f.store.z, t + dz), y1z1 = texel_pair(store, f.store.z, t + dy + dz);
-  if (step.x == 0) w.x = 0.0;
-  return trilinear(y0z0, y1z0, y0z1, y1z1, w);
+  uint word = first + (index >> 1u);
+  vec2 a = unpackHalf2x16(store.words[word]), b = unpackHalf2x16(store.words[word + 1u]);
+  return (index & 1u) == 0u ? a : vec2(a.y, b.x);
 }
 
 // The field at q (its voxel space, inside the grid), in its voxels: from
-// the brick that holds q's cell where one is stored, else the far field.
+// the brick that holds q's cell where one is stored, else from the far
+// field. Either is a block of half-float texels (x fastest) read by one
+// trilinear fetch, so lanes of a SIMD step that read different ones do not
+// diverge.
 float field_value_at(FieldInstance f, vec3 q) {
   FieldWords store = FieldWords(f.store.xy);
   ivec3 dims = f.dims.xyz;
-  vec3 s = q - 0.5;
-  ivec3 cell = clamp(ivec3(floor(s)), ivec3(0), max(dims - 2, ivec3(0)));
-  vec3 w = clamp(s - vec3(cell), 0.0, 1.0);
+  // The cell whose 8 texels surround q; at the faces, the outer one (weights clamp to its texels).
+  ivec3 cell = clamp(ivec3(floor(q - 0.5)), ivec3(0), max(dims - 2, ivec3(0)));
   ivec3 brick = cell / int(kBrickCells);
   ivec3 bricks = max(dims - 2, ivec3(0)) / int(kBrickCells) + 1;
   uint slot = store.words[kBrickTableFirst + uint(brick.x + bricks.x * (brick.y + bricks.y * brick.z))];
-  if (slot >= uint(f.dims.w)) return far_field_at(f, store, q);
-  ivec3 local = cell - brick * int(kBrickCells);
-  uint first = f.store.w + slot * kBrickWords;
-  uint t = uint(local.x + 8 * (local.y + 8 * local.z));
-  return trilinear(texel_pair(store, first, t), texel_pair(store, first, t + 8u), texel_pair(store, first, t + 64u),
-                   texel_pair(store, first, t + 72u), w);
+  bool stored = slot < uint(f.dims.w);
+  // The far field: its grid shares the origin, with box_lo.w of its voxels per fine voxel.
+  ivec3 far_dims = f.far_dims.xyz;
+  vec3 far_q = q * f.box_lo.w;
+  ivec3 far_cell = clamp(ivec3(floor(far_q - 0.5)), ivec3(0), max(far_dims - 2, ivec3(0)));
+  ivec3 block_cell = stored ? cell - brick * int(kBrickCells) : far_cell;
+  vec3 w = clamp((stored ? q : far_q) - 0.5 - vec3(stored ? cell : far_cell), 0.0, 1.0);
+  // A far field one texel thick along an axis reads that texel twice.
+  ivec3 step = stored ? ivec3(1) : min(far_cell + 1, far_dims - 1) - far_cell;
+  if (step.x == 0) w.x = 0.0;
+  uint row = stored ? kBrickTexels : uint(f.far_dims.w);
+  uint slab = row * (stored ? kBrickTexels : uint(far_dims.y));
+  uint first = stored ? f.store.w + slot * kBrickWords : f.store.z;
+  uint t = uint(block_cell.x) + row * uint(block_cell.y) + slab * uint(block_cell.z);
+  uint dy = row * uint(step.y), dz = slab * uint(step.z);
+  vec2 y0z0 = texel_pair(store, first, t), y1z0 = texel_pair(store, first, t + dy);
+  vec2 y0z1 = texel_pair(store, first, t + dz), y1z1 = texel_pair(store, first, t + dy + dz);
+  float c00 = mix(y0z0.x, y0z0.y, w.x), c10 = mix(y1z0.x, y1z0.y, w.x);
+  float c01 = mix(y0z1.x, y0z1.y, w.x), c11 = mix(y1z1.x, y1z1.y, w.x);
+  return mix(mix(c00, c10, w.y), mix(c01, c11, w.y), w.z);
 }
 
 const float kFarAway = 3.0e38;
