@@ -107,6 +107,7 @@ Renderer::Renderer(const vk::Context& context)
       shade_(context),
       object_fields_(context),
       world_field_(context),
+      shading_timer_(context, 4),
       march_(context) {}
 
 void Renderer::validate(int width, int height, const RenderSettings& settings) const {
@@ -355,10 +356,15 @@ void Renderer::add_frame() {
   push_.march.w = 1.0f / float(frame_ + 1);
   const ShadowMapPass* shadow_maps = settings_.shadow_method == ShadowMethod::CsmEvsm ? shadow_maps_.get() : nullptr;
   context_.submit_and_wait([&](VkCommandBuffer cmd) {
+    shading_timer_.begin(cmd);
     gbuffer_.record(cmd, *scene_, frame_buffer_, field_voxels_);
+    shading_timer_.mark(cmd, "gbuffer");
     shade_.record(cmd, gbuffer_, march_, shadow_maps, light_buffer_, frame_buffer_, accum_color_, accum_passes_, push_);
+    shading_timer_.mark(cmd, "shade");
   });
   timings_.shade_ms += ms_since(shading);
+  for (const vk::GpuTimer::Span& span : shading_timer_.read())
+    (span.label == "gbuffer" ? timings_.gbuffer_gpu_ms : timings_.shade_gpu_ms) += span.ms;
   timings_.total_ms += ms_since(start);
   frame_++;
 }

@@ -104,6 +104,8 @@ struct RenderTimings {
   // (csm_evsm), shade_ms the G-buffer and shading.
   double coarse_ms = 0, fine_ms = 0, shade_ms = 0, total_ms = 0;
   double shadow_map_ms = 0;
+  // Device time of shade_ms's two passes (0 where the device has no timestamps).
+  double gbuffer_gpu_ms = 0, shade_gpu_ms = 0;
 };
 
 struct RenderOutput {
@@ -188,6 +190,7 @@ class Renderer {
   std::unique_ptr<ShadowMapPass> shadow_maps_;  // made on first use of csm_evsm
   ObjectFields object_fields_;
   PackedField world_field_;            // the whole scene's, packed (the whole-scene methods)
+  vk::GpuTimer shading_timer_;
   bool world_field_packed_ = false;
   MarchFields march_;                  // the fields the shading marches
   std::vector<float> field_voxels_;    // per instance: its field's world voxel (0: in none)

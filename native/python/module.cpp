@@ -183,7 +183,8 @@ rtsdf::RenderSettings settings_of(const py::dict& settings_desc) {
 
 py::dict timings_of(const rtsdf::RenderTimings& t) {
   return py::dict(py::arg("sdf") = t.coarse_ms, py::arg("fine") = t.fine_ms, py::arg("shadow_map") = t.shadow_map_ms,
-                  py::arg("shade") = t.shade_ms, py::arg("total") = t.total_ms);
+                  py::arg("shade") = t.shade_ms, py::arg("total") = t.total_ms,
+                  py::arg("gbuffer_gpu") = t.gbuffer_gpu_ms, py::arg("shade_gpu") = t.shade_gpu_ms);
 }
 
 // What the SDF methods did (see rtsdf::RenderStats).

@@ -5,6 +5,12 @@ the time of a frame change plus redraw against EEVEE's in the same run).
 
 xvfb-run -a -s "-screen 0 1280x800x24" blender --window-geometry 0 0 1200 760 --addons rtsdf \
     SCENE.blend --python tests/blender/viewport_driver.py -- OUT_DIR [--moving OBJECT] [--frames N] [--compare-eevee]
+    [--scale S] [--pixel-size N]
+
+--scale sets RTSDF's Viewport Scale (the share of the region's width and
+height it renders); --pixel-size sets Blender's viewport Pixel Size
+(render.preview_pixel_size: 1, 2, 4 or 8), which the engines that honour it
+(Cycles, EEVEE) use. Compare engines at the same pixel count.
 
 Opening the .blend from the command line keeps the splash screen away. It
 writes OUT_DIR/viewport.json with the figures and the screenshots as PNGs;
@@ -27,6 +33,8 @@ OUT = args[0]
 MOVING = args[args.index("--moving") + 1] if "--moving" in args else "Sphere"
 FRAMES = int(args[args.index("--frames") + 1]) if "--frames" in args else 100
 COMPARE_EEVEE = "--compare-eevee" in args
+SCALE = float(args[args.index("--scale") + 1]) if "--scale" in args else None
+PIXEL_SIZE = args[args.index("--pixel-size") + 1] if "--pixel-size" in args else None
 TIMEOUT = 120.0
 os.makedirs(OUT, exist_ok=True)
 results = {"errors": []}
@@ -125,6 +133,12 @@ def steps():
     from rtsdf import engine as rtsdf_engine
 
     scene = bpy.context.scene
+    if SCALE is not None:
+        scene.rtsdf.viewport_scale = SCALE
+    if PIXEL_SIZE is not None:
+        scene.render.preview_pixel_size = PIXEL_SIZE
+    results["rtsdf_viewport_scale"] = scene.rtsdf.viewport_scale
+    results["preview_pixel_size"] = scene.render.preview_pixel_size
     width, height = 160, 90
     window, area, region, space = view3d()
 
