@@ -356,17 +356,77 @@ float shadow_map_visibility(int light, vec3 p, vec3 n, bool casts) {
   return 1.0;
 }
 
+// The world light's visibility is low-frequency: it is marched for one
+// pixel of each 2x2 quad of the work group's 8x8 tile (the 16 invocations
+// 0-15, two full SIMD steps, while the others wait; which pixel of the quad
+// changes every frame), and every pixel takes it from the tile's samples
+// on its own surface (close normals and planes), weighted by distance. A
+// pixel with no such sample near it marches its own. (Unreal's distance
+// field AO is computed at a reduced resolution and upsampled alike.)
+const uint kSkyQuads = 16u;
+shared vec4 sky_sample_position[kSkyQuads];  // w = the world size that counts as one surface, 0: no sample
+shared vec4 sky_sample_normal[kSkyQuads];    // w = its sky visibility
+
+// The camera-facing side's normal at a G-buffer pixel.
+vec3 facing_normal(ivec2 pixel, vec3 p) {
+  vec3 n = imageLoad(g_normal, pixel).xyz;
+  vec3 to_camera = frame.camera_position.w > 0.5 ? -frame.camera_forward.xyz : frame.camera_position.xyz - p;
+  return dot(n, to_camera) < 0.0 ? -n : n;
+}
+
+// The march's origin off a surface (see main).
+vec3 march_origin(vec3 p, vec3 n, float receiver_voxel) { return p + n * (pc.surface.x * receiver_voxel); }
+
+void march_sky_sample(uint quad) {
+  int frame_index = pc.image.w;
+  ivec2 pixel = ivec2(gl_WorkGroupID.xy) * 8 + 2 * ivec2(quad % 4u, quad / 4u) + ivec2(frame_index & 1, (frame_index >> 1) & 1);
+  sky_sample_position[quad] = vec4(0.0);
+  if (any(greaterThanEqual(pixel, pc.image.xy))) return;
+  vec4 position = imageLoad(g_position, pixel);
+  if (position.w <= 0.0) return;
+  vec3 n = facing_normal(pixel, position.xyz);
+  float receiver_voxel = imageLoad(g_albedo, pixel).a;
+  float jitter = hash(uvec3(pixel, uint(frame_index)));
+  float sky = sky_visibility(march_origin(position.xyz, n, receiver_voxel), n, receiver_voxel, jitter, pixel);
+  // One surface: within a quarter of the distance to the camera's plane times a pixel's angle, and a voxel.
+  float depth = abs(dot(position.xyz - frame.camera_position.xyz, frame.camera_forward.xyz));
+  sky_sample_position[quad] = vec4(position.xyz, max(receiver_voxel, 1e-3 * depth));
+  sky_sample_normal[quad] = vec4(n, sky);
+}
+
+// This pixel's share of the world light from the tile's samples; < 0: none lies on its surface.
+float shared_sky(ivec2 pixel, vec3 p, vec3 n) {
+  vec2 in_tile = vec2(pixel - ivec2(gl_WorkGroupID.xy) * 8) + 0.5;
+  float sum = 0.0, weights = 0.0;
+  for (uint quad = 0u; quad < kSkyQuads; ++quad) {
+    vec4 at = sky_sample_position[quad];
+    if (at.w <= 0.0) continue;
+    vec4 sample_normal = sky_sample_normal[quad];
+    float plane = abs(dot(p - at.xyz, sample_normal.xyz));
+    if (dot(n, sample_normal.xyz) < 0.9 || plane > at.w) continue;
+    vec2 centre = 2.0 * vec2(quad % 4u, quad / 4u) + 1.0;
+    float w = 1.0 / (1.0 + dot(in_tile - centre, in_tile - centre));
+    sum += w * sample_normal.w;
+    weights += w;
+  }
+  return weights > 0.0 ? sum / weights : -1.0;
+}
+
 void main() {
   ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
+  // (uniform over the dispatch: the barrier below is reached by all or none)
+  bool wants_sky = pc.visibility.x != kVisibilityShadowMaps && dot(frame.ambient.rgb, frame.ambient.rgb) > 0.0;
+  if (wants_sky) {
+    if (gl_LocalInvocationIndex < kSkyQuads) march_sky_sample(gl_LocalInvocationIndex);
+    barrier();
+  }
   if (any(greaterThanEqual(pixel, pc.image.xy))) return;
   vec4 position = imageLoad(g_position, pixel);
   vec3 color = frame.ambient.rgb;
   float depth = 1e10, shadow = 1.0;
   if (position.w > 0.0) {
     vec3 p = position.xyz;
-    vec3 n = imageLoad(g_normal, pixel).xyz;
-    vec3 to_camera = frame.camera_position.w > 0.5 ? -frame.camera_forward.xyz : frame.camera_position.xyz - p;
-    if (dot(n, to_camera) < 0.0) n = -n;  // shade the side the camera sees
+    vec3 n = facing_normal(pixel, p);  // shade the side the camera sees
     vec4 albedo_voxel = imageLoad(g_albedo, pixel);
     vec3 albedo = albedo_voxel.rgb;
     float receiver_voxel = albedo_voxel.a;  // of the field holding this surface (0: in none)
@@ -382,9 +442,12 @@ void main() {
     // reach the objects resting on it. A nudge along the normal (pc.surface.x
     // voxels: a quarter of a fine SDF's, more for the thick shell of the
     // unsigned coarse one) keeps a caster's march off its own surface.
-    vec3 origin = p + n * (pc.surface.x * receiver_voxel);
-    float sky = pc.visibility.x == kVisibilityShadowMaps || dot(frame.ambient.rgb, frame.ambient.rgb) <= 0.0
-                    ? 1.0 : sky_visibility(origin, n, receiver_voxel, jitter, pixel);
+    vec3 origin = march_origin(p, n, receiver_voxel);
+    float sky = 1.0;
+    if (wants_sky) {
+      sky = shared_sky(pixel, p, n);
+      if (sky < 0.0) sky = sky_visibility(origin, n, receiver_voxel, jitter, pixel);
+    }
     color = albedo * frame.ambient.rgb * sky;
     for (int l = 0; l < pc.image.z; ++l) {
       GpuLight light = lights[l];
