@@ -266,7 +266,9 @@ void Renderer::begin(GpuScene& scene, const Camera& camera, const std::vector<Li
     const VkImageUsageFlags usage = VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
     accum_color_ = vk::Image::plane(context_, width, height, VK_FORMAT_R32G32B32A32_SFLOAT, usage);
     accum_passes_ = vk::Image::plane(context_, width, height, VK_FORMAT_R32G32_SFLOAT, usage);
-    vk::make_general(context_, {&accum_color_, &accum_passes_});
+    sky_samples_ = vk::Image::plane(context_, (width + 1) / 2, (height + 1) / 2, VK_FORMAT_R32G32B32A32_SFLOAT,
+                                    VK_IMAGE_USAGE_STORAGE_BIT);
+    vk::make_general(context_, {&accum_color_, &accum_passes_, &sky_samples_});
   }
   width_ = width;
   height_ = height;
@@ -359,7 +361,10 @@ void Renderer::add_frame() {
     shading_timer_.begin(cmd);
     gbuffer_.record(cmd, *scene_, frame_buffer_, field_voxels_);
     shading_timer_.mark(cmd, "gbuffer");
-    shade_.record(cmd, gbuffer_, march_, shadow_maps, light_buffer_, frame_buffer_, accum_color_, accum_passes_, push_);
+    const bool march_sky = push_.visibility.x != gpu::kVisibilityShadowMaps &&
+                           glm::dot(glm::vec3(frame_data_.ambient), glm::vec3(frame_data_.ambient)) > 0.0f;
+    shade_.record(cmd, gbuffer_, march_, shadow_maps, light_buffer_, frame_buffer_, accum_color_, accum_passes_,
+                  sky_samples_, march_sky, push_);
     shading_timer_.mark(cmd, "shade");
   });
   timings_.shade_ms += ms_since(shading);

@@ -217,6 +217,7 @@ class Renderer {
   vk::Buffer frame_buffer_;
   vk::Image accum_color_;
   vk::Image accum_passes_;
+  vk::Image sky_samples_;  // the world light per 2x2 quad (see ShadePass)
 };
 
 }  // namespace rtsdf

@@ -17,293 +17,13 @@
 #include "evsm.glsl.h"
 
 layout(local_size_x = 8, local_size_y = 8) in;
-layout(binding = 0, rgba32f) uniform readonly image2D g_position;
-layout(binding = 1, rgba32f) uniform readonly image2D g_normal;
-layout(binding = 2, rgba32f) uniform readonly image2D g_albedo;
+#include "shade_inputs.glsl.h"  // the G-buffer, the frame, the fields and the march; bindings 0-3, 5, 11, 12
 layout(std430, binding = 4) readonly buffer Lights { GpuLight lights[]; };
-layout(std430, binding = 5) readonly buffer Frame { FrameData frame; };
 layout(binding = 6, rgba32f) uniform image2D accum_color;   // rgb = Combined, a = coverage
 layout(binding = 7, rg32f) uniform image2D accum_passes;    // x = Depth, y = Shadow (visibility)
 layout(binding = 8, rgba32f) uniform readonly image2D shadow_atlas;  // EVSM moments (csm_evsm)
 layout(std430, binding = 9) readonly buffer ShadowTiles { ShadowTile shadow_tiles[]; };
 layout(std430, binding = 10) readonly buffer ShadowLights { ShadowLightTiles shadow_lights[]; };
-layout(push_constant) uniform Push { ShadePush pc; };
-#include "sdf_fields.glsl.h"  // bindings 3, 11: the fields marched
-
-float hash(uvec3 v) {
-  v = v * 1664525u + 1013904223u;
-  v.x += v.y * v.z; v.y += v.z * v.x; v.z += v.x * v.y;
-  v ^= v >> 16u;
-  v.x += v.y * v.z;
-  return float(v.x) * (1.0 / 4294967296.0);
-}
-
-// Two unit vectors that make an orthonormal frame with the unit vector n.
-void tangent_frame(vec3 n, out vec3 t, out vec3 b) {
-  t = normalize(abs(n.z) < 0.9 ? cross(n, vec3(0.0, 0.0, 1.0)) : cross(n, vec3(1.0, 0.0, 0.0)));
-  b = cross(n, t);
-}
-
-// Share of a disk (the light) left visible by a straight occluder edge at
-// signed distance r (in disk radii; r < 0: the edge covers the centre).
-float disk_visible(float r) {
-  r = clamp(r, -1.0, 1.0);
-  return 0.5 + (r * sqrt(1.0 - r * r) + asin(r)) / 3.14159265;
-}
-
-// Unit outward normal of the surface nearest the point t along a ray (the
-// clearance's gradient by tetrahedral differences half a voxel wide), from
-// the fields near it.
-vec3 surface_normal_at(vec3 origin, vec3 dir, vec3 inv_dir, float t, float voxel) {
-  float e = 0.5 * voxel;
-  int count = gather_fields(origin, inv_dir, t - e, t + e, 2.0 * e);
-  if (count < 0) count = RTSDF_MAX_NEARBY_FIELDS;
-  vec3 p = origin + dir * t;
-  const vec3 corners[4] = vec3[4](vec3(1, -1, -1), vec3(-1, -1, 1), vec3(-1, 1, -1), vec3(1, 1, 1));
-  vec3 g = vec3(0.0);
-  for (int i = 0; i < 4; ++i) g += corners[i] * nearby_distance(p + e * corners[i], count).y;
-  return dot(g, g) > 0.0 ? normalize(g) : vec3(0.0);
-}
-
-// Fraction of the light visible from `origin` along `dir` up to `t_max`;
-// tan_radius = tangent of the light's angular radius (0: a hard shadow).
-// Each sample's clearance from the surfaces is compared with the light cone's
-// radius there, w = t * tan_radius (shadow_epsilon, the paper's stop distance,
-// ends hard-shadow marches; thickening soft ones by it made shadows too fat).
-// Samples may lie inside an occluder (negative clearance), so the penumbra
-// straddles the geometric shadow edge as in Cycles, instead of lying wholly
-// outside it as with min(h / w). Between samples outside surfaces, the
-// clearance is refined by Aaltonen's triangulation.
-// The field is signed only in the fine band: deeper inside a solid it is the
-// unsigned coarse distance. A march that goes from negative to a positive
-// value further than the step could explain (an SDF changes by at most the
-// distance moved) has entered that interior, and reads it negated until it
-// reaches the band on the far side.
-// An unsigned field (the coarse SDF of jfa_only) cannot tell inside from
-// outside: a sample within epsilon of its surfaces blocks the ray (the
-// paper's stop), and only clearances above that shell shape the penumbra,
-// whose inner half therefore collapses onto the shell.
-// Epsilon and the step cap are in voxels of the field nearest each sample
-// (fields differ in resolution). Only fields whose box, grown by the longest
-// step, the ray passes are read: the march goes in segments, each with the
-// fields near it (gather_fields); a segment near too many is halved, one
-// near none is skipped. Outside every box (clear of all surfaces by a margin)
-// it steps on without narrowing the cone, as a march clipped to one grid does.
-// escape: how far along the ray negative samples are skipped until the first
-// non-negative one: a receiver that is itself in the SDF may start inside its
-// own shell (thin pieces read as slabs a voxel thick on either side).
-// own_normal (0: none): samples whose clearance is the distance to the
-// receiver's own tangent plane are not counted: near-tangent cones (the sky's)
-// would otherwise see the receiver itself.
-// axis_blocks: a cone whose axis enters an occluder sees nothing. For the
-// sky's wide cones: the clearance inside an occluder tells how thick it is,
-// not how far it reaches sideways, and through a room's walls (far thinner
-// than the cone is wide) about half the sky shone in.
-// crossed_sheet (out): the axis passed through a sheet of an occluder (left
-// it through a face turned away from the one it entered by: a wall, a leaf, a
-// plate, not the rim of a solid), and the cone was not found wholly blocked:
-// the returned share is then only a guess (see light_visibility).
-float visibility(vec3 origin, vec3 dir, float t_min, float t_max, float tan_radius, float jitter, float escape,
-                 vec3 own_normal, bool axis_blocks, out bool crossed_sheet) {
-  crossed_sheet = false;
-  if (pc.visibility.z == 0u) return 1.0;
-  vec3 inv_dir = safe_inverse(dir);
-  // Only inside a field's box is a clearance known (field_distance): clip to
-  // the box of all fields.
-  BvhNode root = field_nodes[0];
-  vec2 span = ray_box_span(origin, inv_dir, root.lo.xyz, root.hi.xyz);
-  t_min = max(t_min, span.x);
-  t_max = min(t_max, span.y);
-  if (t_min >= t_max) return 1.0;
-  const bool unsigned_field = pc.visibility.x == kVisibilityUnsignedSdf;
-  float t = t_min, t_start = t_min;
-  float ratio = 1.0;  // smallest clearance / cone radius seen
-  float previous_h = 0.0, step = 0.0;
-  bool deep_inside = false, have_previous = false, jittered = false;
-  bool escaping = escape > 0.0 && !unsigned_field;
-  // The axis's first passage through an occluder: where it entered, where it
-  // left, and the voxel there (entry < 0: none yet; exit < 0: still inside).
-  float entry = -1.0, exit = -1.0, crossing_voxel = 0.0;
-  float segment_end = t;  // the fields near [t, segment_end] are gathered
-  int nearby = 0;
-  FieldInstance only_field;  // when nearby is 1: that field, and the ray in its voxel space
-  vec3 field_origin, field_dir;
-  for (int i = 0; i < int(pc.visibility.w) && t < t_max; ++i) {
-    if (t >= segment_end) {
-      segment_end = t_max;
-      for (int halvings = 0; halvings < 8; ++halvings) {
-        nearby = gather_fields(origin, inv_dir, t, segment_end, pc.field_reach.x);
-        if (nearby >= 0 || segment_end - t < pc.field_reach.x) break;
-        segment_end = t + 0.5 * (segment_end - t);
-      }
-      if (nearby < 0) nearby = RTSDF_MAX_NEARBY_FIELDS;  // (too many even close by: the first that fit)
-      if (nearby == 0) {
-        // No field's box within a step: nothing there to meet or to narrow the cone.
-        t = segment_end;
-        have_previous = false;
-        continue;
-      }
-      if (nearby == 1) {
-        // The segment's one field (the common case) stays in registers, the
-        // ray in its voxel space: each sample then reads only texels.
-        only_field = field_instances[nearby_fields[0]];
-        field_origin = (only_field.world_to_field * vec4(origin, 1.0)).xyz;
-        field_dir = mat3(only_field.world_to_field) * dir;
-      }
-    }
-    vec3 sample_ = nearby == 1 ? field_distance_at(only_field, field_origin + field_dir * t)
-                               : nearby_distance(origin + dir * t, nearby);
-    float h = sample_.y, voxel = sample_.z;
-    float epsilon = pc.march.x * voxel, max_step = pc.march.y * voxel;
-    if (!jittered) {
-      // Jittered by up to one epsilon along the light each frame: with the sample
-      // positions moving, step patterns (banding) average out over accumulation.
-      jittered = true;
-      t_start = t + jitter * epsilon;
-      t = t_start;
-      continue;
-    }
-    if (h >= kFarAway) {
-      // Outside every field's box: clear of every surface by the bound, and
-      // nothing there narrows the cone: step the whole bound, but no further
-      // than the segment whose fields were gathered.
-      have_previous = false;
-      t = min(t + max(sample_.x, 0.5 * epsilon), max(segment_end, t + 0.5 * epsilon));
-      continue;
-    }
-    if (escaping) {
-      if (h < 0.0 && t < t_start + escape) {
-        t += 0.5 * epsilon;
-        continue;
-      }
-      escaping = false;
-    }
-    if (unsigned_field) {
-      if (h < epsilon) return 0.0;
-      h -= epsilon;
-    } else if (h < 0.0) {
-      deep_inside = false;
-    } else if (deep_inside || (have_previous && previous_h < 0.0 && h - previous_h > step + voxel)) {
-      deep_inside = true, h = -h;
-    }
-    if (h < 0.0 && axis_blocks) return 0.0;
-    if (h < 0.0 && entry < 0.0) entry = t, crossing_voxel = voxel;
-    if (h >= 0.0 && entry >= 0.0 && exit < 0.0) exit = t;
-    if (tan_radius <= 0.0) {
-      if (!unsigned_field && h < epsilon) return 0.0;
-    } else {
-      float clearance = h, at = t;
-      if (have_previous && previous_h > 0.0 && h > 0.0) {
-        // Spheres of radius previous_h and h around the last two samples (step
-        // apart) meet y back along the ray, d off it. Marching straight away
-        // from the receiver they barely touch, back at the start: no estimate there.
-        float y = (h * h - previous_h * previous_h + step * step) / (2.0 * step);
-        if (y > 0.0 && y < h && t - y > t_start) clearance = sqrt(h * h - y * y), at = t - y;
-      }
-      float w = tan_radius * max(at, 1e-6);
-      bool own_plane = h >= t * dot(dir, own_normal) - 0.5 * epsilon && dot(own_normal, own_normal) > 0.0;
-      if (!own_plane) ratio = min(ratio, clearance / w);
-      if (ratio <= -1.0) return 0.0;
-    }
-    previous_h = h;
-    have_previous = true;
-    // Through the thickened surface in small steps, elsewhere sphere tracing
-    // capped at max_step, or at a third of the cone's radius where that is
-    // more: a wide cone (the sky's) resolves no finer than its own width (as
-    // cone-traced AO grows its steps), and a closest approach missed between
-    // samples that far apart moves the ratio by less than 1/6.
-    float cone_step = tan_radius * t * (1.0 / 3.0);
-    step = clamp(abs(h), 0.5 * epsilon, max(max_step, cone_step));
-    if (step > max_step) step = min(step, max(segment_end - t, max_step));  // (gathered fields only reach so far)
-    t += step;
-  }
-  if (tan_radius <= 0.0) return 1.0;
-  // (the normals only now, for the one passage, and each probe written once: probed in the loop, or inlined at
-  // several places, they made every march 1.5 to 3x slower on lavapipe)
-  if (exit > 0.0) {
-    vec3 normals[2];
-    for (int k = 0; k < 2; ++k) normals[k] = surface_normal_at(origin, dir, inv_dir, k == 0 ? entry : exit, crossing_voxel);
-    crossed_sheet = dot(normals[0], normals[1]) < -0.5;
-  }
-  return disk_visible(ratio);
-}
-
-// Share of a light (a disk of tan_radius seen from origin along dir) reaching
-// origin. The cone march measures it from the clearances along the axis,
-// which holds for the rim of a solid: outside surfaces the clearance is the
-// distance in every direction, and inside it is the depth below the rim.
-// Where the axis crosses a sheet (a wall, a leaf card, a plate), the
-// clearance inside tells only the sheet's thickness, not how far it reaches
-// sideways: a room's walls and ceiling, thinner than the sun's cone is wide,
-// let a sixth of the sun through (the interior sample). There, one ray
-// towards a random point of the light's disk (new each frame) stands in: its
-// 0 or 1 averages over accumulation frames to the true share, whatever the
-// occluder's shape.
-float light_visibility(vec3 origin, vec3 dir, float t_min, float t_max, float tan_radius, float jitter, float escape,
-                       ivec2 pixel) {
-  // The cone, then where it crossed a sheet the ray (one call site: two made
-  // the shader's march twice as large, and every march slower on lavapipe).
-  // The ray is a cone a thousandth as wide, blocked where its axis enters a
-  // surface, not epsilon short of it as a hard shadow's march stops, which
-  // would widen every shadow by epsilon.
-  vec3 march_dir = dir;
-  float cone = tan_radius;
-  float v = 1.0;
-  for (int pass = 0; pass < 2; ++pass) {
-    bool crossed_sheet;
-    v = visibility(origin, march_dir, t_min, t_max, cone, jitter, escape, vec3(0.0), false, crossed_sheet);
-    if (!crossed_sheet || tan_radius <= 0.0) break;
-    // (the pixel's points over frames follow the R2 sequence from a random start: evenly spread over the disk)
-    vec3 t, b;
-    tangent_frame(dir, t, b);
-    vec2 start = vec2(hash(uvec3(pixel, 0x1157u)), hash(uvec3(pixel.yx, 0x1158u)));
-    vec2 u = fract(start + float(pc.image.w) * vec2(0.7548776662, 0.5698402910));
-    float r = tan_radius * sqrt(u.x), phi = 6.2831853 * u.y;
-    march_dir = normalize(dir + r * (cos(phi) * t + sin(phi) * b));
-    cone = 1e-3 * tan_radius;
-  }
-  return v;
-}
-
-// Share of the world light (the sky, uniform) reaching p: two cone marches
-// per frame over the hemisphere around n, cosine-distributed and turned every
-// frame, so that accumulation averages many. Cycles' direct light includes
-// the world, occluded by the scene: without this, a room lit through a
-// window glowed everywhere with the world colour. Shadow maps have no view
-// of the sky: csm_evsm leaves the world light unoccluded.
-// Whether a ray from p along dir enters one of the flat receivers left out of
-// the SDF (a ground) ahead of p; p's own surface, which it leaves at once, does not count.
-bool enters_sky_blocker(vec3 p, vec3 dir) {
-  vec3 inv = 1.0 / dir;
-  for (int i = 0; i < int(frame.ambient.w); ++i) {
-    vec3 lo = frame.sky_blockers[2 * i].xyz, hi = frame.sky_blockers[2 * i + 1].xyz;
-    vec3 pad = vec3(1e-4 * length(hi - lo));  // a plane's box has no thickness
-    vec3 t0 = (lo - pad - p) * inv, t1 = (hi + pad - p) * inv;
-    vec3 near = min(t0, t1), far = max(t0, t1);
-    float enter = max(max(near.x, near.y), near.z), leave = min(min(far.x, far.y), far.z);
-    if (enter > 0.0 && enter <= leave) return true;
-  }
-  return false;
-}
-
-// receiver_voxel: the world voxel of the field holding the receiver (0: in none).
-float sky_visibility(vec3 origin, vec3 n, float receiver_voxel, float jitter, ivec2 pixel) {
-  bool in_sdf = receiver_voxel > 0.0;
-  vec3 t, b;
-  tangent_frame(n, t, b);
-  float sum = 0.0;
-  for (uint k = 0u; k < 2u; ++k) {
-    float u1 = hash(uvec3(pixel, uint(pc.image.w) * 4u + 2u * k + 1u));
-    float u2 = hash(uvec3(pixel.yx, uint(pc.image.w) * 4u + 2u * k + 2u));
-    float r = sqrt(u1), phi = 6.2831853 * u2;
-    vec3 dir = normalize(t * (r * cos(phi)) + b * (r * sin(phi)) + n * sqrt(max(1.0 - u1, 0.0)));
-    if (enters_sky_blocker(origin, dir)) continue;
-    bool crossed_sheet;  // (never with axis_blocks)
-    sum += visibility(origin, dir, pc.march.z * receiver_voxel, 1e10, 0.35, jitter, 2.0 * receiver_voxel,
-                      in_sdf ? n : vec3(0.0), true, crossed_sheet);
-  }
-  return 0.5 * sum;
-}
 
 // Bilinear sample of a tile's moments at `texel` (continuous, 0 to size across the tile).
 vec4 shadow_moments(ShadowTile tile, vec2 texel) {
@@ -356,56 +76,24 @@ float shadow_map_visibility(int light, vec3 p, vec3 n, bool casts) {
   return 1.0;
 }
 
-// The world light's visibility is low-frequency: it is marched for one
-// pixel of each 2x2 quad of the work group's 8x8 tile (the 16 invocations
-// 0-15, two full SIMD steps, while the others wait; which pixel of the quad
-// changes every frame), and every pixel takes it from the tile's samples
-// on its own surface (close normals and planes), weighted by distance. A
-// pixel with no such sample near it marches its own. (Unreal's distance
-// field AO is computed at a reduced resolution and upsampled alike.)
-const uint kSkyQuads = 16u;
-shared vec4 sky_sample_position[kSkyQuads];  // w = the world size that counts as one surface, 0: no sample
-shared vec4 sky_sample_normal[kSkyQuads];    // w = its sky visibility
-
-// The camera-facing side's normal at a G-buffer pixel.
-vec3 facing_normal(ivec2 pixel, vec3 p) {
-  vec3 n = imageLoad(g_normal, pixel).xyz;
-  vec3 to_camera = frame.camera_position.w > 0.5 ? -frame.camera_forward.xyz : frame.camera_position.xyz - p;
-  return dot(n, to_camera) < 0.0 ? -n : n;
-}
-
-// The march's origin off a surface (see main).
-vec3 march_origin(vec3 p, vec3 n, float receiver_voxel) { return p + n * (pc.surface.x * receiver_voxel); }
-
-void march_sky_sample(uint quad) {
-  int frame_index = pc.image.w;
-  ivec2 pixel = ivec2(gl_WorkGroupID.xy) * 8 + 2 * ivec2(quad % 4u, quad / 4u) + ivec2(frame_index & 1, (frame_index >> 1) & 1);
-  sky_sample_position[quad] = vec4(0.0);
-  if (any(greaterThanEqual(pixel, pc.image.xy))) return;
-  vec4 position = imageLoad(g_position, pixel);
-  if (position.w <= 0.0) return;
-  vec3 n = facing_normal(pixel, position.xyz);
-  float receiver_voxel = imageLoad(g_albedo, pixel).a;
-  float jitter = hash(uvec3(pixel, uint(frame_index)));
-  float sky = sky_visibility(march_origin(position.xyz, n, receiver_voxel), n, receiver_voxel, jitter, pixel);
-  // One surface: within a quarter of the distance to the camera's plane times a pixel's angle, and a voxel.
-  float depth = abs(dot(position.xyz - frame.camera_position.xyz, frame.camera_forward.xyz));
-  sky_sample_position[quad] = vec4(position.xyz, max(receiver_voxel, 1e-3 * depth));
-  sky_sample_normal[quad] = vec4(n, sky);
-}
-
-// This pixel's share of the world light from the tile's samples; < 0: none lies on its surface.
+// This pixel's share of the world light from the sky pass's samples of the
+// four quads around it that lie on its surface (close normal and plane),
+// weighted bilinearly; < 0: none does.
 float shared_sky(ivec2 pixel, vec3 p, vec3 n) {
-  vec2 in_tile = vec2(pixel - ivec2(gl_WorkGroupID.xy) * 8) + 0.5;
+  vec2 quad_position = (vec2(pixel) + 0.5) * 0.5 - 0.5;  // in quads, whose centres are at integers
+  ivec2 base = ivec2(floor(quad_position));
+  vec2 f = quad_position - vec2(base);
+  ivec2 last = (pc.image.xy + 1) / 2 - 1;
   float sum = 0.0, weights = 0.0;
-  for (uint quad = 0u; quad < kSkyQuads; ++quad) {
-    vec4 at = sky_sample_position[quad];
-    if (at.w <= 0.0) continue;
-    vec4 sample_normal = sky_sample_normal[quad];
-    float plane = abs(dot(p - at.xyz, sample_normal.xyz));
-    if (dot(n, sample_normal.xyz) < 0.9 || plane > at.w) continue;
-    vec2 centre = 2.0 * vec2(quad % 4u, quad / 4u) + 1.0;
-    float w = 1.0 / (1.0 + dot(in_tile - centre, in_tile - centre));
+  for (int k = 0; k < 4; ++k) {
+    ivec2 corner = ivec2(k & 1, k >> 1);
+    ivec2 quad = clamp(base + corner, ivec2(0), last);
+    vec4 sample_normal = imageLoad(sky_samples, quad);  // xyz = normal, w = visibility (< 0: no sample)
+    if (sample_normal.w < 0.0) continue;
+    vec4 at = imageLoad(g_position, sky_sample_pixel(quad));
+    if (dot(n, sample_normal.xyz) < 0.9 || abs(dot(p - at.xyz, sample_normal.xyz)) > same_surface_distance(at.xyz)) continue;
+    vec2 bilinear = mix(1.0 - f, f, vec2(corner));
+    float w = bilinear.x * bilinear.y + 1e-3;
     sum += w * sample_normal.w;
     weights += w;
   }
@@ -414,12 +102,6 @@ float shared_sky(ivec2 pixel, vec3 p, vec3 n) {
 
 void main() {
   ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
-  // (uniform over the dispatch: the barrier below is reached by all or none)
-  bool wants_sky = pc.visibility.x != kVisibilityShadowMaps && dot(frame.ambient.rgb, frame.ambient.rgb) > 0.0;
-  if (wants_sky) {
-    if (gl_LocalInvocationIndex < kSkyQuads) march_sky_sample(gl_LocalInvocationIndex);
-    barrier();
-  }
   if (any(greaterThanEqual(pixel, pc.image.xy))) return;
   vec4 position = imageLoad(g_position, pixel);
   vec3 color = frame.ambient.rgb;
@@ -444,7 +126,7 @@ void main() {
     // unsigned coarse one) keeps a caster's march off its own surface.
     vec3 origin = march_origin(p, n, receiver_voxel);
     float sky = 1.0;
-    if (wants_sky) {
+    if (wants_sky()) {
       sky = shared_sky(pixel, p, n);
       if (sky < 0.0) sky = sky_visibility(origin, n, receiver_voxel, jitter, pixel);
     }

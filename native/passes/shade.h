@@ -17,13 +17,18 @@ class ShadePass {
  public:
   explicit ShadePass(const vk::Context& context);
   // `shadow_maps`: only with push.visibility.x == kVisibilityShadowMaps
-  // (null: placeholders are bound in their place).
+  // (null: placeholders are bound in their place). `sky_samples`: one texel
+  // per 2x2 quad of the image (see shaders/shade_inputs.glsl.h), marched
+  // first when `march_sky` (the world light is marched: it has some colour
+  // and the method is an SDF's).
   void record(VkCommandBuffer cmd, const GBufferPass& gbuffer, const MarchFields& fields,
               const ShadowMapPass* shadow_maps, const vk::Buffer& lights, const vk::Buffer& frame,
-              const vk::Image& accum_color, const vk::Image& accum_passes, const gpu::ShadePush& push) const;
+              const vk::Image& accum_color, const vk::Image& accum_passes, const vk::Image& sky_samples,
+              bool march_sky, const gpu::ShadePush& push) const;
 
  private:
-  vk::Pipeline pipeline_;
+  vk::Pipeline sky_;
+  vk::Pipeline shade_;
   vk::Image no_shadow_atlas_;   // 1 texel
   vk::Buffer no_shadow_tiles_;  // one tile, and one light's empty range
 };

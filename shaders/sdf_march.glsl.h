@@ -1,0 +1,279 @@
+// The shadow march through the distance fields (sdf_fields.glsl.h): a light's
+// visibility (a cone towards a disk) and the world light's (cones over the
+// hemisphere). Needs the Frame buffer (`frame`) and the ShadePush constants
+// (`pc`) declared before it.
+float hash(uvec3 v) {
+  v = v * 1664525u + 1013904223u;
+  v.x += v.y * v.z; v.y += v.z * v.x; v.z += v.x * v.y;
+  v ^= v >> 16u;
+  v.x += v.y * v.z;
+  return float(v.x) * (1.0 / 4294967296.0);
+}
+
+// Two unit vectors that make an orthonormal frame with the unit vector n.
+void tangent_frame(vec3 n, out vec3 t, out vec3 b) {
+  t = normalize(abs(n.z) < 0.9 ? cross(n, vec3(0.0, 0.0, 1.0)) : cross(n, vec3(1.0, 0.0, 0.0)));
+  b = cross(n, t);
+}
+
+// Share of a disk (the light) left visible by a straight occluder edge at
+// signed distance r (in disk radii; r < 0: the edge covers the centre).
+float disk_visible(float r) {
+  r = clamp(r, -1.0, 1.0);
+  return 0.5 + (r * sqrt(1.0 - r * r) + asin(r)) / 3.14159265;
+}
+
+// Unit outward normal of the surface nearest the point t along a ray (the
+// clearance's gradient by tetrahedral differences half a voxel wide), from
+// the fields near it.
+vec3 surface_normal_at(vec3 origin, vec3 dir, vec3 inv_dir, float t, float voxel) {
+  float e = 0.5 * voxel;
+  int count = gather_fields(origin, inv_dir, t - e, t + e, 2.0 * e);
+  if (count < 0) count = RTSDF_MAX_NEARBY_FIELDS;
+  vec3 p = origin + dir * t;
+  const vec3 corners[4] = vec3[4](vec3(1, -1, -1), vec3(-1, -1, 1), vec3(-1, 1, -1), vec3(1, 1, 1));
+  vec3 g = vec3(0.0);
+  for (int i = 0; i < 4; ++i) g += corners[i] * nearby_distance(p + e * corners[i], count).y;
+  return dot(g, g) > 0.0 ? normalize(g) : vec3(0.0);
+}
+
+// Fraction of the light visible from `origin` along `dir` up to `t_max`;
+// tan_radius = tangent of the light's angular radius (0: a hard shadow).
+// Each sample's clearance from the surfaces is compared with the light cone's
+// radius there, w = t * tan_radius (shadow_epsilon, the paper's stop distance,
+// ends hard-shadow marches; thickening soft ones by it made shadows too fat).
+// Samples may lie inside an occluder (negative clearance), so the penumbra
+// straddles the geometric shadow edge as in Cycles, instead of lying wholly
+// outside it as with min(h / w). Between samples outside surfaces, the
+// clearance is refined by Aaltonen's triangulation.
+// The field is signed only in the fine band: deeper inside a solid it is the
+// unsigned coarse distance. A march that goes from negative to a positive
+// value further than the step could explain (an SDF changes by at most the
+// distance moved) has entered that interior, and reads it negated until it
+// reaches the band on the far side.
+// An unsigned field (the coarse SDF of jfa_only) cannot tell inside from
+// outside: a sample within epsilon of its surfaces blocks the ray (the
+// paper's stop), and only clearances above that shell shape the penumbra,
+// whose inner half therefore collapses onto the shell.
+// Epsilon and the step cap are in voxels of the field nearest each sample
+// (fields differ in resolution). Only fields whose box, grown by the longest
+// step, the ray passes are read: the march goes in segments, each with the
+// fields near it (gather_fields); a segment near too many is halved, one
+// near none is skipped. Outside every box (clear of all surfaces by a margin)
+// it steps on without narrowing the cone, as a march clipped to one grid does.
+// escape: how far along the ray negative samples are skipped until the first
+// non-negative one: a receiver that is itself in the SDF may start inside its
+// own shell (thin pieces read as slabs a voxel thick on either side).
+// own_normal (0: none): samples whose clearance is the distance to the
+// receiver's own tangent plane are not counted: near-tangent cones (the sky's)
+// would otherwise see the receiver itself.
+// axis_blocks: a cone whose axis enters an occluder sees nothing. For the
+// sky's wide cones: the clearance inside an occluder tells how thick it is,
+// not how far it reaches sideways, and through a room's walls (far thinner
+// than the cone is wide) about half the sky shone in.
+// crossed_sheet (out): the axis passed through a sheet of an occluder (left
+// it through a face turned away from the one it entered by: a wall, a leaf, a
+// plate, not the rim of a solid), and the cone was not found wholly blocked:
+// the returned share is then only a guess (see light_visibility).
+float visibility(vec3 origin, vec3 dir, float t_min, float t_max, float tan_radius, float jitter, float escape,
+                 vec3 own_normal, bool axis_blocks, out bool crossed_sheet) {
+  crossed_sheet = false;
+  if (pc.visibility.z == 0u) return 1.0;
+  vec3 inv_dir = safe_inverse(dir);
+  // Only inside a field's box is a clearance known (field_distance): clip to
+  // the box of all fields.
+  BvhNode root = field_nodes[0];
+  vec2 span = ray_box_span(origin, inv_dir, root.lo.xyz, root.hi.xyz);
+  t_min = max(t_min, span.x);
+  t_max = min(t_max, span.y);
+  if (t_min >= t_max) return 1.0;
+  const bool unsigned_field = pc.visibility.x == kVisibilityUnsignedSdf;
+  float t = t_min, t_start = t_min;
+  float ratio = 1.0;  // smallest clearance / cone radius seen
+  float previous_h = 0.0, step = 0.0;
+  bool deep_inside = false, have_previous = false, jittered = false;
+  bool escaping = escape > 0.0 && !unsigned_field;
+  // The axis's first passage through an occluder: where it entered, where it
+  // left, and the voxel there (entry < 0: none yet; exit < 0: still inside).
+  float entry = -1.0, exit = -1.0, crossing_voxel = 0.0;
+  float segment_end = t;  // the fields near [t, segment_end] are gathered
+  int nearby = 0;
+  FieldInstance only_field;  // when nearby is 1: that field, and the ray in its voxel space
+  vec3 field_origin, field_dir;
+  for (int i = 0; i < int(pc.visibility.w) && t < t_max; ++i) {
+    if (t >= segment_end) {
+      segment_end = t_max;
+      for (int halvings = 0; halvings < 8; ++halvings) {
+        nearby = gather_fields(origin, inv_dir, t, segment_end, pc.field_reach.x);
+        if (nearby >= 0 || segment_end - t < pc.field_reach.x) break;
+        segment_end = t + 0.5 * (segment_end - t);
+      }
+      if (nearby < 0) nearby = RTSDF_MAX_NEARBY_FIELDS;  // (too many even close by: the first that fit)
+      if (nearby == 0) {
+        // No field's box within a step: nothing there to meet or to narrow the cone.
+        t = segment_end;
+        have_previous = false;
+        continue;
+      }
+      if (nearby == 1) {
+        // The segment's one field (the common case) stays in registers, the
+        // ray in its voxel space: each sample then reads only texels.
+        only_field = field_instances[nearby_fields[0]];
+        field_origin = (only_field.world_to_field * vec4(origin, 1.0)).xyz;
+        field_dir = mat3(only_field.world_to_field) * dir;
+      }
+    }
+    vec3 sample_ = nearby == 1 ? field_distance_at(only_field, field_origin + field_dir * t)
+                               : nearby_distance(origin + dir * t, nearby);
+    float h = sample_.y, voxel = sample_.z;
+    float epsilon = pc.march.x * voxel, max_step = pc.march.y * voxel;
+    if (!jittered) {
+      // Jittered by up to one epsilon along the light each frame: with the sample
+      // positions moving, step patterns (banding) average out over accumulation.
+      jittered = true;
+      t_start = t + jitter * epsilon;
+      t = t_start;
+      continue;
+    }
+    if (h >= kFarAway) {
+      // Outside every field's box: clear of every surface by the bound, and
+      // nothing there narrows the cone: step the whole bound, but no further
+      // than the segment whose fields were gathered.
+      have_previous = false;
+      t = min(t + max(sample_.x, 0.5 * epsilon), max(segment_end, t + 0.5 * epsilon));
+      continue;
+    }
+    if (escaping) {
+      if (h < 0.0 && t < t_start + escape) {
+        t += 0.5 * epsilon;
+        continue;
+      }
+      escaping = false;
+    }
+    if (unsigned_field) {
+      if (h < epsilon) return 0.0;
+      h -= epsilon;
+    } else if (h < 0.0) {
+      deep_inside = false;
+    } else if (deep_inside || (have_previous && previous_h < 0.0 && h - previous_h > step + voxel)) {
+      deep_inside = true, h = -h;
+    }
+    if (h < 0.0 && axis_blocks) return 0.0;
+    if (h < 0.0 && entry < 0.0) entry = t, crossing_voxel = voxel;
+    if (h >= 0.0 && entry >= 0.0 && exit < 0.0) exit = t;
+    if (tan_radius <= 0.0) {
+      if (!unsigned_field && h < epsilon) return 0.0;
+    } else {
+      float clearance = h, at = t;
+      if (have_previous && previous_h > 0.0 && h > 0.0) {
+        // Spheres of radius previous_h and h around the last two samples (step
+        // apart) meet y back along the ray, d off it. Marching straight away
+        // from the receiver they barely touch, back at the start: no estimate there.
+        float y = (h * h - previous_h * previous_h + step * step) / (2.0 * step);
+        if (y > 0.0 && y < h && t - y > t_start) clearance = sqrt(h * h - y * y), at = t - y;
+      }
+      float w = tan_radius * max(at, 1e-6);
+      bool own_plane = h >= t * dot(dir, own_normal) - 0.5 * epsilon && dot(own_normal, own_normal) > 0.0;
+      if (!own_plane) ratio = min(ratio, clearance / w);
+      if (ratio <= -1.0) return 0.0;
+    }
+    previous_h = h;
+    have_previous = true;
+    // Through the thickened surface in small steps, elsewhere sphere tracing
+    // capped at max_step, or at a third of the cone's radius where that is
+    // more: a wide cone (the sky's) resolves no finer than its own width (as
+    // cone-traced AO grows its steps), and a closest approach missed between
+    // samples that far apart moves the ratio by less than 1/6.
+    float cone_step = tan_radius * t * (1.0 / 3.0);
+    step = clamp(abs(h), 0.5 * epsilon, max(max_step, cone_step));
+    if (step > max_step) step = min(step, max(segment_end - t, max_step));  // (gathered fields only reach so far)
+    t += step;
+  }
+  if (tan_radius <= 0.0) return 1.0;
+  // (the normals only now, for the one passage, and each probe written once: probed in the loop, or inlined at
+  // several places, they made every march 1.5 to 3x slower on lavapipe)
+  if (exit > 0.0) {
+    vec3 normals[2];
+    for (int k = 0; k < 2; ++k) normals[k] = surface_normal_at(origin, dir, inv_dir, k == 0 ? entry : exit, crossing_voxel);
+    crossed_sheet = dot(normals[0], normals[1]) < -0.5;
+  }
+  return disk_visible(ratio);
+}
+
+// Share of a light (a disk of tan_radius seen from origin along dir) reaching
+// origin. The cone march measures it from the clearances along the axis,
+// which holds for the rim of a solid: outside surfaces the clearance is the
+// distance in every direction, and inside it is the depth below the rim.
+// Where the axis crosses a sheet (a wall, a leaf card, a plate), the
+// clearance inside tells only the sheet's thickness, not how far it reaches
+// sideways: a room's walls and ceiling, thinner than the sun's cone is wide,
+// let a sixth of the sun through (the interior sample). There, one ray
+// towards a random point of the light's disk (new each frame) stands in: its
+// 0 or 1 averages over accumulation frames to the true share, whatever the
+// occluder's shape.
+float light_visibility(vec3 origin, vec3 dir, float t_min, float t_max, float tan_radius, float jitter, float escape,
+                       ivec2 pixel) {
+  // The cone, then where it crossed a sheet the ray (one call site: two made
+  // the shader's march twice as large, and every march slower on lavapipe).
+  // The ray is a cone a thousandth as wide, blocked where its axis enters a
+  // surface, not epsilon short of it as a hard shadow's march stops, which
+  // would widen every shadow by epsilon.
+  vec3 march_dir = dir;
+  float cone = tan_radius;
+  float v = 1.0;
+  for (int pass = 0; pass < 2; ++pass) {
+    bool crossed_sheet;
+    v = visibility(origin, march_dir, t_min, t_max, cone, jitter, escape, vec3(0.0), false, crossed_sheet);
+    if (!crossed_sheet || tan_radius <= 0.0) break;
+    // (the pixel's points over frames follow the R2 sequence from a random start: evenly spread over the disk)
+    vec3 t, b;
+    tangent_frame(dir, t, b);
+    vec2 start = vec2(hash(uvec3(pixel, 0x1157u)), hash(uvec3(pixel.yx, 0x1158u)));
+    vec2 u = fract(start + float(pc.image.w) * vec2(0.7548776662, 0.5698402910));
+    float r = tan_radius * sqrt(u.x), phi = 6.2831853 * u.y;
+    march_dir = normalize(dir + r * (cos(phi) * t + sin(phi) * b));
+    cone = 1e-3 * tan_radius;
+  }
+  return v;
+}
+
+// Share of the world light (the sky, uniform) reaching p: two cone marches
+// per frame over the hemisphere around n, cosine-distributed and turned every
+// frame, so that accumulation averages many. Cycles' direct light includes
+// the world, occluded by the scene: without this, a room lit through a
+// window glowed everywhere with the world colour. Shadow maps have no view
+// of the sky: csm_evsm leaves the world light unoccluded.
+// Whether a ray from p along dir enters one of the flat receivers left out of
+// the SDF (a ground) ahead of p; p's own surface, which it leaves at once, does not count.
+bool enters_sky_blocker(vec3 p, vec3 dir) {
+  vec3 inv = 1.0 / dir;
+  for (int i = 0; i < int(frame.ambient.w); ++i) {
+    vec3 lo = frame.sky_blockers[2 * i].xyz, hi = frame.sky_blockers[2 * i + 1].xyz;
+    vec3 pad = vec3(1e-4 * length(hi - lo));  // a plane's box has no thickness
+    vec3 t0 = (lo - pad - p) * inv, t1 = (hi + pad - p) * inv;
+    vec3 near = min(t0, t1), far = max(t0, t1);
+    float enter = max(max(near.x, near.y), near.z), leave = min(min(far.x, far.y), far.z);
+    if (enter > 0.0 && enter <= leave) return true;
+  }
+  return false;
+}
+
+// receiver_voxel: the world voxel of the field holding the receiver (0: in none).
+float sky_visibility(vec3 origin, vec3 n, float receiver_voxel, float jitter, ivec2 pixel) {
+  bool in_sdf = receiver_voxel > 0.0;
+  vec3 t, b;
+  tangent_frame(n, t, b);
+  float sum = 0.0;
+  for (uint k = 0u; k < 2u; ++k) {
+    float u1 = hash(uvec3(pixel, uint(pc.image.w) * 4u + 2u * k + 1u));
+    float u2 = hash(uvec3(pixel.yx, uint(pc.image.w) * 4u + 2u * k + 2u));
+    float r = sqrt(u1), phi = 6.2831853 * u2;
+    vec3 dir = normalize(t * (r * cos(phi)) + b * (r * sin(phi)) + n * sqrt(max(1.0 - u1, 0.0)));
+    if (enters_sky_blocker(origin, dir)) continue;
+    bool crossed_sheet;  // (never with axis_blocks)
+    sum += visibility(origin, dir, pc.march.z * receiver_voxel, 1e10, 0.35, jitter, 2.0 * receiver_voxel,
+                      in_sdf ? n : vec3(0.0), true, crossed_sheet);
+  }
+  return 0.5 * sum;
+}
+
