@@ -166,8 +166,11 @@ void ObjectFields::sync(GpuScene& scene, const ObjectFieldSettings& settings, Ma
 void ObjectFields::update_memory_stats() {
   stats_.bytes = stats_.dense_bytes = 0;
   stats_.stored_bricks = stats_.brick_count = 0;
+  stats_.per_field.clear();
   for (const Field& f : fields_) {
-    stats_.bytes += f.packed->bytes() + f.coarse->bytes() + f.fine->bytes();
+    const size_t bytes = f.packed->bytes() + f.coarse->bytes() + f.fine->bytes();
+    stats_.per_field.push_back({f.mesh, bytes, f.packed->stored_bricks(), f.packed->brick_count(), f.fine_grid.voxel_size});
+    stats_.bytes += bytes;
     stats_.dense_bytes += coarse_sdf_bytes(f.coarse_grid) + f.fine_grid.voxel_count() * (FineSdf::kBytesPerTexel + sizeof(float));
     stats_.stored_bricks += f.packed->stored_bricks();
     stats_.brick_count += f.packed->brick_count();

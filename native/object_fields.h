@@ -42,6 +42,15 @@ struct ObjectFieldSettings {
   double budget_mb = 1024.0;
 };
 
+// One mesh's field, as the stats report it.
+struct FieldMemory {
+  uint32_t mesh = 0;
+  size_t bytes = 0;            // packed, and its SDFs while kept
+  uint32_t stored_bricks = 0;  // of brick_count
+  uint32_t brick_count = 0;
+  float voxel_size = 0.0f;     // of its fine grid, in the mesh's own units
+};
+
 struct ObjectFieldStats {
   int fields = 0;               // meshes with a field
   int placed = 0;               // instances placed (sharing those fields)
@@ -53,6 +62,7 @@ struct ObjectFieldStats {
   size_t dense_bytes = 0;       // what dense grids of the same voxels take (coarse and fine SDFs and a dense copy)
   uint64_t stored_bricks = 0;   // bricks of fine texels the packed fields hold
   uint64_t brick_count = 0;     // bricks their fine grids span
+  std::vector<FieldMemory> per_field;  // in mesh order
   float resolution_scale = 1;   // below 1: resolutions lowered to fit the budget
   int skipped_degenerate = 0;   // instances left out: a scale flattens them
 };
@@ -72,6 +82,8 @@ class ObjectFields {
   void refine(GpuScene& scene, MarchFields& march);
   // Whether some field is still due for refinement.
   bool refining() const;
+  // Frees every field (another method is in use).
+  void clear() { fields_.clear(); placements_.clear(); }
 
   const ObjectFieldStats& stats() const { return stats_; }
   // A mesh's field as the march reads it (in its own space), or null if it has no field or was never refined.

@@ -129,6 +129,13 @@ bool PackedField::settle(float slack) {
   return false;
 }
 
+void PackedField::release() {
+  words_ = {};
+  grid_ = far_grid_ = {};
+  capacity_ = stored_ = 0;
+  generation_++;
+}
+
 gpu::FieldInstance PackedField::instance_record() const {
   gpu::FieldInstance record{};
   const VkDeviceAddress address = words_.device_address();

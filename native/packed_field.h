@@ -45,6 +45,9 @@ class PackedField {
   // coarse SDF: refining the same field needs no more.
   bool settle(float slack = 0.0f);
 
+  // Frees the field's words (set_layout lays it out again).
+  void release();
+
   // The record that places the field, less its transform and scale.
   gpu::FieldInstance instance_record() const;
   const GridSpec& grid() const { return grid_; }

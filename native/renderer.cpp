@@ -154,6 +154,7 @@ void Renderer::update_field_memory_stats(ShadowMethod method) {
     stats_.field_dense_mb = double(objects.dense_bytes) / kMiB;
     stats_.stored_bricks = objects.stored_bricks;
     stats_.brick_count = objects.brick_count;
+    stats_.per_field = objects.per_field;
     return;
   }
   const bool fine = uses_fine_sdf(method);
@@ -181,6 +182,15 @@ void Renderer::rebuild_sdfs(GpuScene& scene, const RenderSettings& settings) {
   scene_ = &scene;
   field_voxels_.assign(scene.instances().size(), 0.0f);
   const ShadowMethod method = settings.shadow_method;
+  // Another method's fields hold memory this one does not read.
+  const bool world_field = has_casters_ && method != ShadowMethod::Rtsdf && method != ShadowMethod::CsmEvsm;
+  if (method != ShadowMethod::Rtsdf) object_fields_.clear();
+  if (!world_field) {
+    world_field_.release();
+    world_field_packed_ = false;
+    coarse_.release();
+  }
+  if (!uses_fine_sdf(method)) fine_.release();
   if (!has_casters_ || method == ShadowMethod::CsmEvsm) {
     // Nothing to march (csm_evsm needs no SDF): its casters are still told
     // apart from receivers (they look themselves up off their surface).

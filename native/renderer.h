@@ -94,6 +94,7 @@ struct RenderStats {
   double field_dense_mb = 0.0;  // what dense grids of the same voxels would take, for comparison
   uint64_t stored_bricks = 0;   // bricks of fine texels the packed fields hold (see PackedField)
   uint64_t brick_count = 0;     // bricks their fine grids span
+  std::vector<FieldMemory> per_field;  // rtsdf: each mesh's field
   float resolution_scale = 1;   // rtsdf: below 1, resolutions lowered to fit field_budget_mb
   int skipped_degenerate = 0;   // rtsdf: instances a scale flattens to nothing, left out of the fields
 };

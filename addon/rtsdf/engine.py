@@ -86,6 +86,8 @@ class RTSDFRenderEngine(bpy.types.RenderEngine):
         print(f"RTSDF: frame {scene.frame_current} {width}x{height} in {ms['total']:.0f} ms "
               f"(SDF {ms['sdf']:.0f}, fine {ms['fine']:.0f}, shading {ms['shade']:.0f}) on {session.device}; "
               f"{field_summary(out['stats'])}")
+        for line in field_lines(out["stats"], [mesh.get("key", "?") for mesh in data["meshes"]]):
+            print(f"RTSDF:   {line}")
         warn_about_fields(self, out["stats"])
 
 
@@ -201,6 +203,14 @@ def field_summary(stats, per_frame=False):
     occupancy = f" ({stats['stored_bricks'] / bricks:.0%} of bricks)" if bricks else ""
     return (f"{stats['fields']} fields for {stats['field_instances']} instances, {stats['field_mb']:.1f} MB{occupancy} | "
             f"{stats['fields_regenerated']} rebuilt, {traced:,} texels traced")
+
+
+def field_lines(stats, mesh_names):
+    """One line per mesh's field for the render log: its memory, the bricks
+    it stores near its surfaces, and its voxel."""
+    return [f"{mesh_names[f['mesh']] if f['mesh'] < len(mesh_names) else f['mesh']}: {f['mb']:.2f} MB, "
+            f"{f['stored_bricks']} of {f['brick_count']} bricks, voxel {f['voxel_size']:.4g}"
+            for f in stats.get("per_field", [])]
 
 
 def warn_about_fields(engine, stats):

@@ -93,7 +93,15 @@ class NativeModuleInBlender(unittest.TestCase):
         self.assertTrue(all(d["stats"]["last_frame_traced_texels"] > 0 for d in draws[:5]))
         self.assertEqual([d["stats"]["fields_regenerated"] for d in draws], [0] * 12)
         viewport.set_transforms([eye])
-        self.assertEqual(viewport.draw(view, settings)["stats"]["last_frame_traced_texels"], 0, "refined: moves trace nothing")
+        still = viewport.draw(view, settings)["stats"]
+        self.assertEqual(still["last_frame_traced_texels"], 0, "refined: moves trace nothing")
+        # Refined: the cube's field keeps only its bricks near the faces and its far field.
+        [cube] = still["per_field"]
+        self.assertEqual(cube["mesh"], 0)
+        self.assertAlmostEqual(cube["mb"], still["field_mb"], places=6)
+        self.assertTrue(0 < cube["stored_bricks"] < cube["brick_count"], cube)
+        self.assertLess(still["field_mb"], still["field_dense_mb"] / 4)
+        self.assertAlmostEqual(cube["voxel_size"], fine["voxel_size"], places=6)
 
         # New geometry in place: the same again changes nothing; triangles
         # split along other diagonals rebuild the cube's field.
