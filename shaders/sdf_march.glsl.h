@@ -1,7 +1,7 @@
 // The shadow march through the distance fields (sdf_fields.glsl.h): a light's
 // visibility (a cone towards a disk) and the world light's (cones over the
-// hemisphere). Needs the Frame buffer (`frame`) and the ShadePush constants
-// (`pc`) declared before it.
+// hemisphere). Needs the Frame buffer (`frame`), the ShadePush constants
+// (`pc`) and kVisibilityMode declared before it.
 float hash(uvec3 v) {
   v = v * 1664525u + 1013904223u;
   v.x += v.y * v.z; v.y += v.z * v.x; v.z += v.x * v.y;
@@ -87,7 +87,7 @@ float visibility(vec3 origin, vec3 dir, float t_min, float t_max, float tan_radi
   t_min = max(t_min, span.x);
   t_max = min(t_max, span.y);
   if (t_min >= t_max) return 1.0;
-  const bool unsigned_field = pc.visibility.x == kVisibilityUnsignedSdf;
+  const bool unsigned_field = kVisibilityMode == kVisibilityUnsignedSdf;
   float t = t_min, t_start = t_min;
   float ratio = 1.0;  // smallest clearance / cone radius seen
   float previous_h = 0.0, step = 0.0;

@@ -4,7 +4,7 @@
 #extension GL_EXT_buffer_reference_uvec2 : require
 // Shading: Lambert direct light times visibility, plus the world colour,
 // averaged over accumulation frames (each with its own sub-pixel and
-// shadow-origin jitter). Visibility (pc.visibility.x) either marches an SDF
+// shadow-origin jitter). Visibility (kVisibilityMode) either marches an SDF
 // towards the light (trilinear samples, stop below shadow_epsilon, steps
 // capped at max_step) with the cone penumbra, improved by Aaltonen's
 // triangulation between consecutive samples (Claybook, GDC 2018): the signed
@@ -161,7 +161,7 @@ void main() {
       float cos_surface = dot(n, dir);
       if (cos_surface <= 0.0 || dot(irradiance, irradiance) <= 0.0) continue;
       float t_min = pc.march.z * receiver_voxel;
-      float v = pc.visibility.x == kVisibilityShadowMaps
+      float v = kVisibilityMode == kVisibilityShadowMaps
                     ? shadow_map_visibility(l, p, n, in_sdf)
                     : light_visibility(origin, march_dir, t_min, t_max, tan_radius, jitter, 2.0 * receiver_voxel, pixel);
       vec3 direct = irradiance * cos_surface;

@@ -6,6 +6,10 @@ layout(binding = 1, rgba32f) uniform readonly image2D g_normal;
 layout(binding = 2, rgba32f) uniform readonly image2D g_albedo;
 layout(std430, binding = 5) readonly buffer Frame { FrameData frame; };
 layout(push_constant) uniform Push { ShadePush pc; };
+// The visibility this pipeline computes (kVisibility*; as pc.visibility.x): a
+// constant, so that the compiler drops the other methods' code. (Lavapipe
+// runs both sides of a branch under a mask: dead code costs every pixel.)
+layout(constant_id = 0) const uint kVisibilityMode = kVisibilitySignedSdf;
 #include "sdf_fields.glsl.h"  // bindings 3, 11: the fields marched
 #include "sdf_march.glsl.h"
 // The world light's visibility is low-frequency: sky.comp marches it for
@@ -22,7 +26,7 @@ layout(binding = 12, rgba32f) uniform readonly image2D sky_samples;
 #endif
 
 // Whether the world light is marched at all (the same for every pixel).
-bool wants_sky() { return pc.visibility.x != kVisibilityShadowMaps && dot(frame.ambient.rgb, frame.ambient.rgb) > 0.0; }
+bool wants_sky() { return kVisibilityMode != kVisibilityShadowMaps && dot(frame.ambient.rgb, frame.ambient.rgb) > 0.0; }
 
 // The pixel a quad's world-light sample is marched for this frame.
 ivec2 sky_sample_pixel(ivec2 quad) {

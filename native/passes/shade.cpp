@@ -2,6 +2,7 @@
 
 #include <vector>
 
+#include "error.h"
 #include "shaders/shared.h"
 #include "spirv/spirv_shade_comp.h"
 #include "spirv/spirv_sky_comp.h"
@@ -18,8 +19,7 @@ const std::vector<VkDescriptorType> kBindings = {kImage, kImage,  kImage,  kBuff
 }  // namespace
 
 ShadePass::ShadePass(const vk::Context& context)
-    : sky_(context, RTSDF_SPIRV(spirv_sky_comp), kBindings, sizeof(gpu::ShadePush)),
-      shade_(context, RTSDF_SPIRV(spirv_shade_comp), kBindings, sizeof(gpu::ShadePush)),
+    : context_(context),
       no_shadow_atlas_(vk::Image::plane(context, 1, 1, VK_FORMAT_R32G32B32A32_SFLOAT, VK_IMAGE_USAGE_STORAGE_BIT)),
       no_shadow_tiles_(context, sizeof(gpu::ShadowTile), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
                        vk::Buffer::Access::DeviceOnly) {
@@ -29,9 +29,18 @@ ShadePass::ShadePass(const vk::Context& context)
 void ShadePass::record(VkCommandBuffer cmd, const GBufferPass& gbuffer, const MarchFields& fields,
                        const ShadowMapPass* shadow_maps, const vk::Buffer& lights, const vk::Buffer& frame,
                        const vk::Image& accum_color, const vk::Image& accum_passes, const vk::Image& sky_samples,
-                       bool march_sky, const gpu::ShadePush& push) const {
-  for (const vk::Pipeline* pass : {&sky_, &shade_}) {
-    const bool sky = pass == &sky_;
+                       bool march_sky, const gpu::ShadePush& push) {
+  const uint32_t mode = push.visibility.x;
+  if (mode >= passes_.size()) throw Error("ShadePass: unknown visibility method");
+  Passes& passes = passes_[mode];
+  if (!passes.shade) {
+    passes.sky = std::make_unique<vk::Pipeline>(context_, RTSDF_SPIRV(spirv_sky_comp), kBindings,
+                                                uint32_t(sizeof(gpu::ShadePush)), std::vector<uint32_t>{mode});
+    passes.shade = std::make_unique<vk::Pipeline>(context_, RTSDF_SPIRV(spirv_shade_comp), kBindings,
+                                                  uint32_t(sizeof(gpu::ShadePush)), std::vector<uint32_t>{mode});
+  }
+  for (const vk::Pipeline* pass : {passes.sky.get(), passes.shade.get()}) {
+    const bool sky = pass == passes.sky.get();
     if (sky && !march_sky) continue;
     pass->bind(cmd);
     pass->push_descriptors(

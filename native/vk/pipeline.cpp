@@ -73,13 +73,19 @@ void Pipeline::create_layout(std::vector<VkDescriptorType> bindings, uint32_t pu
 }
 
 Pipeline::Pipeline(const Context& context, Spirv compute, std::vector<VkDescriptorType> bindings,
-                   uint32_t push_bytes)
+                   uint32_t push_bytes, const std::vector<uint32_t>& specialization)
     : device_(context.device()), bind_point_(VK_PIPELINE_BIND_POINT_COMPUTE) {
   try {
     create_layout(std::move(bindings), push_bytes, VK_SHADER_STAGE_COMPUTE_BIT);
     ShaderModule module(device_, compute);
+    std::vector<VkSpecializationMapEntry> entries;
+    for (uint32_t i = 0; i < specialization.size(); ++i)
+      entries.push_back({i, uint32_t(i * sizeof(uint32_t)), sizeof(uint32_t)});
+    VkSpecializationInfo constants{uint32_t(entries.size()), entries.data(), specialization.size() * sizeof(uint32_t),
+                                   specialization.data()};
     VkComputePipelineCreateInfo info{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
     info.stage = stage_info(VK_SHADER_STAGE_COMPUTE_BIT, module);
+    if (!specialization.empty()) info.stage.pSpecializationInfo = &constants;
     info.layout = layout_;
     VK_CHECK(vkCreateComputePipelines(device_, VK_NULL_HANDLE, 1, &info, nullptr, &pipeline_));
   } catch (...) {

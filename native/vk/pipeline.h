@@ -40,8 +40,10 @@ struct RenderTargets {
 
 class Pipeline {
  public:
-  // A compute pipeline.
-  Pipeline(const Context& context, Spirv compute, std::vector<VkDescriptorType> bindings, uint32_t push_bytes);
+  // A compute pipeline; `specialization[i]` is the value of the shader's
+  // 32-bit constant_id i (the compiler then drops the code it rules out).
+  Pipeline(const Context& context, Spirv compute, std::vector<VkDescriptorType> bindings, uint32_t push_bytes,
+           const std::vector<uint32_t>& specialization = {});
   // A graphics pipeline drawing triangle lists (no vertex buffers: shaders
   // pull vertices from storage buffers, no culling) into `targets`. Viewport
   // and scissor are dynamic.
