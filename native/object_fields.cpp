@@ -10,8 +10,10 @@ namespace rtsdf {
 
 namespace {
 
-// Device bytes of one mesh's field at these resolutions: the coarse SDF, the
-// fine SDF's images and lists, and its copy in the march's pool.
+// Device bytes of one mesh's field at these resolutions while it refines:
+// the coarse SDF, the fine SDF's images and lists, and 4 bytes per fine
+// texel for the packed field (at worst every brick stored: 3 bytes, and the
+// far field).
 size_t field_bytes(const Bounds& bounds, int coarse_resolution, int fine_resolution) {
   const GridSpec coarse = fit_grid(bounds, coarse_resolution);
   const GridSpec fine = FineSdf::fit(coarse, fine_resolution);

@@ -37,8 +37,9 @@ struct ObjectFieldSettings {
   // extent of room around it. Off: every rebuild starts afresh on a tight grid.
   bool keep_history = false;
   float grid_slack = 0.0f;
-  // Device memory for all fields (coarse, fine and the march's pool), in
-  // MiB: resolutions are lowered alike until the fields fit.
+  // Device memory for all fields while they refine (coarse and fine SDFs,
+  // and the packed fields), in MiB: resolutions are lowered alike until the
+  // fields fit.
   double budget_mb = 1024.0;
 };
 
