@@ -1,0 +1,52 @@
+"""The cost of a still frame's shading in RTSDF's viewport: the scene's
+camera view at a given size, drawn through the native viewport as the 3D
+view draws it, its medians over 30 accumulation frames after 20 to warm up.
+
+BLENDER_USER_SCRIPTS=build/blender_user_scripts blender -b SCENE.blend --addons rtsdf \\
+    --python bench/shading_bench.py -- [--method M] [--size W H] [--no-world] [--no-lights]
+
+Prints the wall time of the shading stage (G-buffer and shading, submitted
+and waited for), the device time of its passes (on lavapipe the G-buffer's
+rasterization finishes inside the next pass's span) and the process's CPU
+time per frame (on a CPU device, the work of every core). --no-world and
+--no-lights leave out the world light or the lights, to see what each costs.
+"""
+import resource
+import sys
+
+import bpy
+import numpy as np
+from rtsdf import native, sync
+
+args = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
+method = args[args.index("--method") + 1] if "--method" in args else "rtsdf"
+width, height = (int(v) for v in args[args.index("--size") + 1:args.index("--size") + 3]) if "--size" in args else (1045, 666)
+
+depsgraph = bpy.context.evaluated_depsgraph_get()
+scene = sync.extract(depsgraph)
+scene["camera"] = sync.camera_data(depsgraph, bpy.context.scene.camera.evaluated_get(depsgraph), width, height)
+session, error = native.session()
+if session is None:
+    sys.exit(f"shading_bench: {error}")
+viewport = session.viewport()
+viewport.sync({"meshes": scene["meshes"], "instances": scene["instances"]})
+view = {"camera": scene["camera"], "lights": [] if "--no-lights" in args else scene["lights"],
+        "ambient": (0.0, 0.0, 0.0) if "--no-world" in args else scene["ambient"], "width": width, "height": height}
+options = bpy.context.scene.rtsdf.as_dict()
+options.update(samples=4096, sdf_updates=0, interleave=4, grid_slack=0.5, shadow_method=method)
+for _ in range(20):  # the fields refine, the pipelines are made
+    out = viewport.draw(view, options)
+keys = ("shade", "gbuffer_gpu", "shade_gpu")
+last = {k: out["ms"][k] for k in keys}
+per_frame = {k: [] for k in keys}
+start = resource.getrusage(resource.RUSAGE_SELF)
+for _ in range(30):
+    out = viewport.draw(view, options)
+    for k in keys:
+        per_frame[k].append(out["ms"][k] - last[k])
+        last[k] = out["ms"][k]
+end = resource.getrusage(resource.RUSAGE_SELF)
+cpu_ms = (end.ru_utime + end.ru_stime - start.ru_utime - start.ru_stime) / 30 * 1000
+print(f"shading_bench: {method} {width}x{height} on {session.device}: shading {np.median(per_frame['shade']):.1f} ms "
+      f"(device: G-buffer {np.median(per_frame['gbuffer_gpu']):.1f}, shading {np.median(per_frame['shade_gpu']):.1f}), "
+      f"CPU {cpu_ms:.1f} ms a frame")
