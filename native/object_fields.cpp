@@ -187,20 +187,13 @@ const PackedField* ObjectFields::packed_field(uint32_t mesh) const {
 }
 
 void ObjectFields::pack(const std::vector<Field*>& fields) {
-  std::vector<Field*> pending = fields;
-  // A field that outgrew its room has more after the first round: the second always fits.
-  for (int round = 0; !pending.empty(); ++round) {
-    if (round == 2) throw Error("a packed field did not fit the room made for it");
-    context_.submit_and_wait([&](VkCommandBuffer cmd) {
-      for (const Field* f : pending) f->packed->record_pack(cmd, {&f->coarse->distance(), &f->fine->distance(),
-                                                                  settings_.fine.band_world(f->coarse_grid.voxel_size),
-                                                                  f->coarse->beta_world()});
-    });
-    std::vector<Field*> again;
-    for (Field* f : pending)
-      if (!f->packed->settle(f->deforms ? kDeformingSlack : 0.0f)) again.push_back(f);
-    pending = std::move(again);
-  }
+  std::vector<PackedField::Packing> packings;
+  for (Field* f : fields)
+    packings.push_back({f->packed.get(),
+                        {&f->coarse->distance(), &f->fine->distance(),
+                         settings_.fine.band_world(f->coarse_grid.voxel_size), f->coarse->beta_world()},
+                        f->deforms ? kDeformingSlack : 0.0f});
+  PackedField::pack(context_, packings);
 }
 
 void ObjectFields::refine(GpuScene& scene, MarchFields& march) {

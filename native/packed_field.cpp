@@ -129,6 +129,21 @@ bool PackedField::settle(float slack) {
   return false;
 }
 
+void PackedField::pack(const vk::Context& context, const std::vector<Packing>& packings) {
+  std::vector<const Packing*> pending;
+  for (const Packing& p : packings) pending.push_back(&p);
+  for (int round = 0; !pending.empty(); ++round) {
+    if (round == 2) throw Error("a packed field did not fit the room made for it");
+    context.submit_and_wait([&](VkCommandBuffer cmd) {
+      for (const Packing* p : pending) p->field->record_pack(cmd, p->source);
+    });
+    std::vector<const Packing*> again;
+    for (const Packing* p : pending)
+      if (!p->field->settle(p->slack)) again.push_back(p);
+    pending = std::move(again);
+  }
+}
+
 void PackedField::release() {
   words_ = {};
   grid_ = far_grid_ = {};

@@ -48,6 +48,16 @@ class PackedField {
   // Frees the field's words (set_layout lays it out again).
   void release();
 
+  // One field to pack, with the slack its room gets (see settle).
+  struct Packing {
+    PackedField* field;
+    Source source;
+    float slack = 0.0f;
+  };
+  // Packs every field in one submission, and again those that needed more
+  // room (a second round always fits).
+  static void pack(const vk::Context& context, const std::vector<Packing>& packings);
+
   // The record that places the field, less its transform and scale.
   gpu::FieldInstance instance_record() const;
   const GridSpec& grid() const { return grid_; }

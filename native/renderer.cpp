@@ -137,10 +137,7 @@ void Renderer::place_world_field(const GridSpec& grid) {
 void Renderer::pack_world_field(const vk::Image* fine, float band) {
   const uint64_t placed = world_field_.generation();
   const PackedField::Source source{&coarse_.distance(), fine, band, fine ? coarse_.beta_world() : 0.0f};
-  for (bool packed = false; !packed;) {
-    context_.submit_and_wait([&](VkCommandBuffer cmd) { world_field_.record_pack(cmd, source); });
-    packed = world_field_.settle(0.25f);  // (the scene's field changes with every move)
-  }
+  PackedField::pack(context_, {{&world_field_, source, 0.25f}});  // (slack: the scene's field changes with every move)
   world_field_packed_ = true;
   if (world_field_.generation() != placed) march_.place({{&world_field_, glm::mat4(1.0f)}});
 }
