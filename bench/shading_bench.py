@@ -36,7 +36,7 @@ options = bpy.context.scene.rtsdf.as_dict()
 options.update(samples=4096, sdf_updates=0, interleave=4, grid_slack=0.5, shadow_method=method)
 for _ in range(20):  # the fields refine, the pipelines are made
     out = viewport.draw(view, options)
-keys = ("shade", "gbuffer_gpu", "shade_gpu")
+keys = ("shade", "gbuffer_gpu", "quad_gpu", "shade_gpu")
 last = {k: out["ms"][k] for k in keys}
 per_frame = {k: [] for k in keys}
 start = resource.getrusage(resource.RUSAGE_SELF)
@@ -48,5 +48,6 @@ for _ in range(30):
 end = resource.getrusage(resource.RUSAGE_SELF)
 cpu_ms = (end.ru_utime + end.ru_stime - start.ru_utime - start.ru_stime) / 30 * 1000
 print(f"shading_bench: {method} {width}x{height} on {session.device}: shading {np.median(per_frame['shade']):.1f} ms "
-      f"(device: G-buffer {np.median(per_frame['gbuffer_gpu']):.1f}, shading {np.median(per_frame['shade_gpu']):.1f}), "
+      f"(device: G-buffer {np.median(per_frame['gbuffer_gpu']):.1f}, shading {np.median(per_frame['shade_gpu']):.1f} "
+      f"of which the quad pass {np.median(per_frame['quad_gpu']):.1f}), "
       f"CPU {cpu_ms:.1f} ms a frame")

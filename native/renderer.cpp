@@ -269,13 +269,12 @@ void Renderer::begin(GpuScene& scene, const Camera& camera, const std::vector<Li
     frame_buffer_ = vk::Buffer(context_, sizeof(gpu::FrameData), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
                                vk::Buffer::Access::HostVisible);
   gbuffer_.resize(width, height);
+  shade_.resize(glm::ivec2(width, height), light_count_);
   if (width != width_ || height != height_ || !accum_color_.handle()) {
     const VkImageUsageFlags usage = VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
     accum_color_ = vk::Image::plane(context_, width, height, VK_FORMAT_R32G32B32A32_SFLOAT, usage);
     accum_passes_ = vk::Image::plane(context_, width, height, VK_FORMAT_R32G32_SFLOAT, usage);
-    sky_samples_ = vk::Image::plane(context_, (width + 1) / 2, (height + 1) / 2, VK_FORMAT_R32G32B32A32_SFLOAT,
-                                    VK_IMAGE_USAGE_STORAGE_BIT);
-    vk::make_general(context_, {&accum_color_, &accum_passes_, &sky_samples_});
+    vk::make_general(context_, {&accum_color_, &accum_passes_});
   }
   width_ = width;
   height_ = height;
@@ -370,13 +369,16 @@ void Renderer::add_frame() {
     shading_timer_.mark(cmd, "gbuffer");
     const bool march_sky = push_.visibility.x != gpu::kVisibilityShadowMaps &&
                            glm::dot(glm::vec3(frame_data_.ambient), glm::vec3(frame_data_.ambient)) > 0.0f;
+    const bool share_lights = settings_.quick_first_frame && frame_ == 0;
     shade_.record(cmd, gbuffer_, march_, shadow_maps, light_buffer_, frame_buffer_, accum_color_, accum_passes_,
-                  sky_samples_, march_sky, push_);
+                  march_sky, share_lights, push_, &shading_timer_);
     shading_timer_.mark(cmd, "shade");
   });
   timings_.shade_ms += ms_since(shading);
-  for (const vk::GpuTimer::Span& span : shading_timer_.read())
+  for (const vk::GpuTimer::Span& span : shading_timer_.read()) {
     (span.label == "gbuffer" ? timings_.gbuffer_gpu_ms : timings_.shade_gpu_ms) += span.ms;
+    if (span.label == "quad") timings_.quad_gpu_ms += span.ms;
+  }
   timings_.total_ms += ms_since(start);
   frame_++;
 }

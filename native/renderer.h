@@ -80,6 +80,12 @@ struct RenderSettings {
   // rtsdf: device memory for all meshes' fields, in MiB (resolutions are
   // lowered alike to fit it).
   double field_budget_mb = 1024.0;
+  // SDF methods: the first accumulation frame marches the lights' shadows at
+  // one pixel of each 2x2 quad, and the pixels on the same surface take them
+  // from there (see ShadePass): the viewport's frame after a change at about
+  // half the shading cost. The frames after it march every pixel, so an
+  // image accumulated over many frames barely differs.
+  bool quick_first_frame = false;
 };
 
 // What the SDF methods did, for the stats a user sees.
@@ -105,8 +111,11 @@ struct RenderTimings {
   // (csm_evsm), shade_ms the G-buffer and shading.
   double coarse_ms = 0, fine_ms = 0, shade_ms = 0, total_ms = 0;
   double shadow_map_ms = 0;
-  // Device time of shade_ms's two passes (0 where the device has no timestamps).
-  double gbuffer_gpu_ms = 0, shade_gpu_ms = 0;
+  // Device time of shade_ms's passes (0 where the device has no timestamps):
+  // the G-buffer, the quarter-rate visibility pass (quad_gpu_ms: the world
+  // light, and the lights in a quick first frame) and the shading
+  // (shade_gpu_ms, which includes quad_gpu_ms).
+  double gbuffer_gpu_ms = 0, quad_gpu_ms = 0, shade_gpu_ms = 0;
 };
 
 struct RenderOutput {
@@ -218,7 +227,6 @@ class Renderer {
   vk::Buffer frame_buffer_;
   vk::Image accum_color_;
   vk::Image accum_passes_;
-  vk::Image sky_samples_;  // the world light per 2x2 quad (see ShadePass)
 };
 
 }  // namespace rtsdf

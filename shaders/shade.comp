@@ -12,13 +12,13 @@
 // the same bindings; or, for the csm_evsm baseline, looks up EVSM shadow
 // maps. Only visibility differs between the methods. The fields
 // (sdf_fields.glsl.h) are many in the object-space design, one per placed
-// mesh, and one for the whole-scene methods.
+// mesh, and one for the whole-scene methods. The pipeline's kShadeStage
+// says which pixels it shades and whether it marches (shade_inputs.glsl.h).
 #include "shared.h"
 #include "evsm.glsl.h"
 
 layout(local_size_x = 8, local_size_y = 8) in;
-#include "shade_inputs.glsl.h"  // the G-buffer, the frame, the fields and the march; bindings 0-3, 5, 11, 12
-layout(std430, binding = 4) readonly buffer Lights { GpuLight lights[]; };
+#include "shade_inputs.glsl.h"  // the G-buffer, the frame, the lights, the fields, the march, the quad samples
 layout(binding = 6, rgba32f) uniform image2D accum_color;   // rgb = Combined, a = coverage
 layout(binding = 7, rg32f) uniform image2D accum_passes;    // x = Depth, y = Shadow (visibility)
 layout(binding = 8, rgba32f) uniform readonly image2D shadow_atlas;  // EVSM moments (csm_evsm)
@@ -76,33 +76,48 @@ float shadow_map_visibility(int light, vec3 p, vec3 n, bool casts) {
   return 1.0;
 }
 
-// This pixel's share of the world light from the sky pass's samples of the
-// four quads around it that lie on its surface (close normal and plane),
-// weighted bilinearly; < 0: none does.
-float shared_sky(ivec2 pixel, vec3 p, vec3 n) {
+// This pixel's share of the world light (light < 0) or of light `light`
+// from the quad pass's samples of the four quads around it that lie on its
+// surface (close normal and plane), weighted bilinearly; < 0: none does.
+float shared_visibility(ivec2 pixel, vec3 p, vec3 n, int light) {
   vec2 quad_position = (vec2(pixel) + 0.5) * 0.5 - 0.5;  // in quads, whose centres are at integers
   ivec2 base = ivec2(floor(quad_position));
   vec2 f = quad_position - vec2(base);
-  ivec2 last = (pc.image.xy + 1) / 2 - 1;
+  ivec2 last = quad_grid() - 1;
   float sum = 0.0, weights = 0.0;
   for (int k = 0; k < 4; ++k) {
     ivec2 corner = ivec2(k & 1, k >> 1);
     ivec2 quad = clamp(base + corner, ivec2(0), last);
-    vec4 sample_normal = imageLoad(sky_samples, quad);  // xyz = normal, w = visibility (< 0: no sample)
-    if (sample_normal.w < 0.0) continue;
-    vec4 at = imageLoad(g_position, sky_sample_pixel(quad));
+    vec4 sample_normal = imageLoad(quad_samples, quad);  // xyz = normal, w = world light (< 0: no sample)
+    float value = light < 0 ? sample_normal.w : quad_lights[light * quad_count() + quad.x + quad_grid().x * quad.y];
+    if (sample_normal.w < 0.0 || value < 0.0) continue;
+    vec4 at = imageLoad(g_position, quad_sample_pixel(quad));
     if (dot(n, sample_normal.xyz) < 0.9 || abs(dot(p - at.xyz, sample_normal.xyz)) > same_surface_distance(at.xyz)) continue;
     vec2 bilinear = mix(1.0 - f, f, vec2(corner));
     float w = bilinear.x * bilinear.y + 1e-3;
-    sum += w * sample_normal.w;
+    sum += w * value;
     weights += w;
   }
   return weights > 0.0 ? sum / weights : -1.0;
 }
 
+// Leaves the pixel to the kShadeFill pass.
+void list_for_fill(ivec2 pixel) {
+  uint index = atomicAdd(fill_count, 1u);
+  if (index % 64u == 0u) atomicAdd(fill_groups.x, 1u);
+  fill_pixels[index] = uint(pixel.x) | uint(pixel.y) << 16u;
+}
+
 void main() {
-  ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
-  if (any(greaterThanEqual(pixel, pc.image.xy))) return;
+  ivec2 pixel;
+  if (kShadeStage == kShadeFill) {
+    uint index = gl_WorkGroupID.x * 64u + gl_LocalInvocationIndex;
+    if (index >= fill_count) return;
+    pixel = ivec2(fill_pixels[index] & 0xffffu, fill_pixels[index] >> 16u);
+  } else {
+    pixel = ivec2(gl_GlobalInvocationID.xy);
+    if (any(greaterThanEqual(pixel, pc.image.xy))) return;
+  }
   vec4 position = imageLoad(g_position, pixel);
   vec3 color = frame.ambient.rgb;
   float depth = 1e10, shadow = 1.0;
@@ -127,44 +142,31 @@ void main() {
     vec3 origin = march_origin(p, n, receiver_voxel);
     float sky = 1.0;
     if (wants_sky()) {
-      sky = shared_sky(pixel, p, n);
+      sky = shared_visibility(pixel, p, n, -1);
+      if (sky < 0.0 && kShadeStage == kShadeShared) {
+        list_for_fill(pixel);
+        return;
+      }
       if (sky < 0.0) sky = sky_visibility(origin, n, receiver_voxel, jitter, pixel);
     }
     color = albedo * frame.ambient.rgb * sky;
     for (int l = 0; l < pc.image.z; ++l) {
-      GpuLight light = lights[l];
-      uint type = uint(light.position.w);
-      vec3 dir, march_dir;  // towards the light from p (shading) and from the march's origin
-      vec3 irradiance = light.radiance.rgb;
-      float t_max, tan_radius;
-      if (type == kLightSun) {
-        dir = march_dir = -light.direction.xyz;
-        t_max = 1e10;
-        tan_radius = light.direction.w;
+      LightPath path = light_path(lights[l], p, origin);
+      if (!faces_light(path, n)) continue;
+      float v;
+      if (kShadeStage == kShadeShared) {
+        v = shared_visibility(pixel, p, n, l);
+        if (v < 0.0) {
+          list_for_fill(pixel);
+          return;
+        }
+      } else if (kVisibilityMode == kVisibilityShadowMaps) {
+        v = shadow_map_visibility(l, p, n, in_sdf);
       } else {
-        // Lighting from p itself, so that every method shades alike.
-        vec3 to_light = light.position.xyz - p;
-        float distance = length(to_light);
-        dir = to_light / max(distance, 1e-6);
-        irradiance /= max(distance * distance, 1e-8);
-        float cos_axis = dot(-dir, light.direction.xyz);
-        // As Cycles: inside the cone, the cosine to the axis times a smoothstep over the blend.
-        if (type == kLightSpot)
-          irradiance *= max(cos_axis, 0.0) * smoothstep(light.spot.x, light.spot.x + light.spot.y, cos_axis);
-        if (light.spot.z > 0.5) irradiance *= max(cos_axis, 0.0);
-        vec3 march_to_light = light.position.xyz - origin;
-        float march_distance = length(march_to_light);
-        march_dir = march_to_light / max(march_distance, 1e-6);
-        t_max = max(march_distance - light.direction.w, 0.0);
-        tan_radius = light.direction.w / max(march_distance, 1e-6);
+        v = light_visibility(origin, path.march_dir, pc.march.z * receiver_voxel, path.t_max, path.tan_radius, jitter,
+                             2.0 * receiver_voxel, pixel);
       }
-      float cos_surface = dot(n, dir);
-      if (cos_surface <= 0.0 || dot(irradiance, irradiance) <= 0.0) continue;
-      float t_min = pc.march.z * receiver_voxel;
-      float v = kVisibilityMode == kVisibilityShadowMaps
-                    ? shadow_map_visibility(l, p, n, in_sdf)
-                    : light_visibility(origin, march_dir, t_min, t_max, tan_radius, jitter, 2.0 * receiver_voxel, pixel);
-      vec3 direct = irradiance * cos_surface;
+      vec3 direct = path.irradiance * dot(n, path.dir);
       color += albedo * direct * v;
       float weight = dot(direct, vec3(0.2126, 0.7152, 0.0722));
       lit += weight * v;

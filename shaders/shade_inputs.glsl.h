@@ -1,35 +1,57 @@
-// What the shading passes (sky.comp, shade.comp) read: the G-buffer, the
-// frame, the push constants, the fields and their march, and the world
-// light's samples; and how a pixel's surface is set up for the march.
+// What the shading passes (quad_visibility.comp, shade.comp) read: the
+// G-buffer, the frame, the lights, the push constants, the fields and their
+// march, and the quad pass's samples; and how a pixel's surface and its
+// lights are set up for the march.
 layout(binding = 0, rgba32f) uniform readonly image2D g_position;
 layout(binding = 1, rgba32f) uniform readonly image2D g_normal;
 layout(binding = 2, rgba32f) uniform readonly image2D g_albedo;
+layout(std430, binding = 4) readonly buffer Lights { GpuLight lights[]; };
 layout(std430, binding = 5) readonly buffer Frame { FrameData frame; };
 layout(push_constant) uniform Push { ShadePush pc; };
-// The visibility this pipeline computes (kVisibility*; as pc.visibility.x): a
-// constant, so that the compiler drops the other methods' code. (Lavapipe
-// runs both sides of a branch under a mask: dead code costs every pixel.)
+// The visibility this pipeline computes (kVisibility*; as pc.visibility.x),
+// and its part of the shading (kShade*): constants, so that the compiler
+// drops the code of the other methods and parts. (Lavapipe runs both sides
+// of a branch under a mask: dead code costs every pixel.)
 layout(constant_id = 0) const uint kVisibilityMode = kVisibilitySignedSdf;
+layout(constant_id = 1) const uint kShadeStage = kShadeFull;
 #include "sdf_fields.glsl.h"  // bindings 3, 11: the fields marched
 #include "sdf_march.glsl.h"
-// The world light's visibility is low-frequency: sky.comp marches it for
-// one pixel of each 2x2 quad (which one changes every frame, so that
-// accumulation covers all four), and shade.comp takes it for every pixel from
-// the quads around it on its own surface, marching its own only where none
-// is (Unreal's distance-field AO is computed at reduced resolution and
-// upsampled alike). One texel per quad: xyz = the sample's normal, w = its
-// visibility (< 0: no surface at the sample's pixel).
-#ifdef RTSDF_SKY_PASS
-layout(binding = 12, rgba32f) uniform writeonly image2D sky_samples;
+// Visibility at a quarter of the pixels. The world light's is low-frequency:
+// quad_visibility.comp marches it for one pixel of each 2x2 quad (which one
+// changes every frame, so that accumulation covers all four), and
+// shade.comp takes it for every pixel from the quads around it on its own
+// surface, marching its own only where none is (Unreal's distance-field AO is
+// computed at reduced resolution and upsampled alike). In a kShadeShared
+// frame (the viewport's first after a change) the lights' visibility is
+// taken so too, and the pixels that find no sample on their surface are
+// listed and shaded by a kShadeFill pass instead.
+// quad_samples: one texel per quad: xyz = the sample's normal, w = its world
+// light (< 0: no surface at the sample's pixel). quad_lights: light l's
+// visibility at quad q in [l * quads + q], quads = quad_count() (< 0: not
+// marched, the light is behind the sample's surface).
+#ifdef RTSDF_QUAD_PASS
+layout(binding = 12, rgba32f) uniform writeonly image2D quad_samples;
+layout(std430, binding = 13) writeonly buffer QuadLights { float quad_lights[]; };
 #else
-layout(binding = 12, rgba32f) uniform readonly image2D sky_samples;
+layout(binding = 12, rgba32f) uniform readonly image2D quad_samples;
+layout(std430, binding = 13) readonly buffer QuadLights { float quad_lights[]; };
 #endif
+// The pixels a kShadeShared pass left to kShadeFill (x | y << 16), and the
+// fill's indirect dispatch: one group of 64 per 64 listed.
+layout(std430, binding = 14) buffer FillList {
+  uvec3 fill_groups;
+  uint fill_count;
+  uint fill_pixels[];
+};
+
+ivec2 quad_grid() { return (pc.image.xy + 1) / 2; }
+int quad_count() { return quad_grid().x * quad_grid().y; }
 
 // Whether the world light is marched at all (the same for every pixel).
 bool wants_sky() { return kVisibilityMode != kVisibilityShadowMaps && dot(frame.ambient.rgb, frame.ambient.rgb) > 0.0; }
 
-// The pixel a quad's world-light sample is marched for this frame.
-ivec2 sky_sample_pixel(ivec2 quad) {
+// The pixel a quad's sample is marched for this frame.
+ivec2 quad_sample_pixel(ivec2 quad) {
   int frame_index = pc.image.w;
   return min(2 * quad + ivec2(frame_index & 1, (frame_index >> 1) & 1), pc.image.xy - 1);
 }
@@ -51,3 +73,44 @@ vec3 march_origin(vec3 p, vec3 n, float receiver_voxel) { return p + n * (pc.sur
 float same_surface_distance(vec3 p) {
   return 1e-3 * abs(dot(p - frame.camera_position.xyz, frame.camera_forward.xyz)) + 1e-6;
 }
+
+// A light as a point p (on a surface) sees it, and the march towards it
+// from origin (p's march start).
+struct LightPath {
+  vec3 dir;         // towards the light from p, for the shading
+  vec3 march_dir;   // towards it from origin
+  vec3 irradiance;  // at p, before the cosine
+  float t_max;      // the march's end
+  float tan_radius; // tangent of the light's angular radius seen from origin (0: hard shadows)
+};
+
+LightPath light_path(GpuLight light, vec3 p, vec3 origin) {
+  LightPath path;
+  uint type = uint(light.position.w);
+  path.irradiance = light.radiance.rgb;
+  if (type == kLightSun) {
+    path.dir = path.march_dir = -light.direction.xyz;
+    path.t_max = 1e10;
+    path.tan_radius = light.direction.w;
+    return path;
+  }
+  // Lighting from p itself, so that every method shades alike.
+  vec3 to_light = light.position.xyz - p;
+  float distance = length(to_light);
+  path.dir = to_light / max(distance, 1e-6);
+  path.irradiance /= max(distance * distance, 1e-8);
+  float cos_axis = dot(-path.dir, light.direction.xyz);
+  // As Cycles: inside the cone, the cosine to the axis times a smoothstep over the blend.
+  if (type == kLightSpot)
+    path.irradiance *= max(cos_axis, 0.0) * smoothstep(light.spot.x, light.spot.x + light.spot.y, cos_axis);
+  if (light.spot.z > 0.5) path.irradiance *= max(cos_axis, 0.0);
+  vec3 march_to_light = light.position.xyz - origin;
+  float march_distance = length(march_to_light);
+  path.march_dir = march_to_light / max(march_distance, 1e-6);
+  path.t_max = max(march_distance - light.direction.w, 0.0);
+  path.tan_radius = light.direction.w / max(march_distance, 1e-6);
+  return path;
+}
+
+// Whether a light reaches p's side of its surface at all (no march needed where not).
+bool faces_light(LightPath path, vec3 n) { return dot(n, path.dir) > 0.0 && dot(path.irradiance, path.irradiance) > 0.0; }

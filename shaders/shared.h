@@ -121,6 +121,11 @@ const uint kVisibilitySignedSdf = 0u;    // march signed fields: fine SDFs (rtsd
 const uint kVisibilityUnsignedSdf = 1u;  // march an unsigned field: the coarse SDF (jfa_only)
 const uint kVisibilityShadowMaps = 2u;   // look up EVSM shadow maps (csm_evsm)
 
+// Which part of the shading a pipeline runs (its specialization constant 1; see ShadePass).
+const uint kShadeFull = 0u;    // every pixel marches its own lights (the world light: from the quad pass)
+const uint kShadeShared = 1u;  // every pixel takes all its light from the quad pass; lists those it cannot
+const uint kShadeFill = 2u;    // the listed pixels, shaded as kShadeFull
+
 // A distance field as the shadow march reads it (native/packed_field.h,
 // shaders/sdf_fields.glsl.h): one device buffer of 32-bit words reached by
 // its address. Word 0 counts the stored bricks; words kBrickTableFirst on

@@ -145,7 +145,7 @@ class RTSDFRenderEngine(bpy.types.RenderEngine):
         options = settings.as_dict()
         # Room around the casters: an object moving a little keeps the grid and the fine SDF's history.
         options.update(samples=settings.viewport_samples, sdf_updates=0, interleave=settings.viewport_interleave,
-                       grid_slack=0.5)
+                       grid_slack=0.5, quick_first_frame=settings.viewport_quick_first_frame)
         try:
             out = self.viewport.draw(sync.view_data(depsgraph, context.region_data, width, height), options)
         except RuntimeError as e:

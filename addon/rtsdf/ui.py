@@ -30,7 +30,7 @@ class RTSDF_PT_settings(bpy.types.Panel):
                     ("Fine SDF", ("beta", "trace_band", "decay", "rays_per_texel")),
                     ("Shadows", ("shadow_method", "shadow_epsilon", "shadow_max_steps", "max_step", "shadow_map_size")),
                     ("Render", ("samples", "sdf_updates")),
-                    ("Viewport", ("viewport_samples", "viewport_scale", "viewport_interleave")))
+                    ("Viewport", ("viewport_samples", "viewport_scale", "viewport_interleave", "viewport_quick_first_frame")))
         for heading, names in sections:
             column = layout.column(align=True, heading=heading)
             for name in names:

@@ -5,7 +5,7 @@
 #include "error.h"
 #include "shaders/shared.h"
 #include "spirv/spirv_shade_comp.h"
-#include "spirv/spirv_sky_comp.h"
+#include "spirv/spirv_quad_visibility_comp.h"
 #include "vk/context.h"
 
 namespace rtsdf {
@@ -13,9 +13,10 @@ namespace rtsdf {
 namespace {
 constexpr VkDescriptorType kImage = VK_DESCRIPTOR_TYPE_STORAGE_IMAGE;
 constexpr VkDescriptorType kBuffer = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-// Both passes see the same bindings (each reads those it needs).
-const std::vector<VkDescriptorType> kBindings = {kImage, kImage,  kImage,  kBuffer, kBuffer, kBuffer, kImage,
-                                                 kImage, kImage,  kBuffer, kBuffer, kBuffer, kImage};
+// Every pass sees the same bindings (each reads those it needs).
+const std::vector<VkDescriptorType> kBindings = {kImage, kImage, kImage,  kBuffer, kBuffer, kBuffer, kImage, kImage,
+                                                 kImage, kBuffer, kBuffer, kBuffer, kImage, kBuffer, kBuffer};
+constexpr uint32_t kFillGroup = 64;  // pixels per group of the fill pass (shade.comp's 8 x 8)
 }  // namespace
 
 ShadePass::ShadePass(const vk::Context& context)
@@ -26,24 +27,55 @@ ShadePass::ShadePass(const vk::Context& context)
   vk::make_general(context, {&no_shadow_atlas_});
 }
 
-void ShadePass::record(VkCommandBuffer cmd, const GBufferPass& gbuffer, const MarchFields& fields,
-                       const ShadowMapPass* shadow_maps, const vk::Buffer& lights, const vk::Buffer& frame,
-                       const vk::Image& accum_color, const vk::Image& accum_passes, const vk::Image& sky_samples,
-                       bool march_sky, const gpu::ShadePush& push) {
-  const uint32_t mode = push.visibility.x;
+ShadePass::Passes& ShadePass::passes_for(uint32_t mode) {
   if (mode >= passes_.size()) throw Error("ShadePass: unknown visibility method");
   Passes& passes = passes_[mode];
+  auto make = [&](vk::Spirv spirv, uint32_t stage) {
+    return std::make_unique<vk::Pipeline>(context_, spirv, kBindings, uint32_t(sizeof(gpu::ShadePush)),
+                                          std::vector<uint32_t>{mode, stage});
+  };
   if (!passes.shade) {
-    passes.sky = std::make_unique<vk::Pipeline>(context_, RTSDF_SPIRV(spirv_sky_comp), kBindings,
-                                                uint32_t(sizeof(gpu::ShadePush)), std::vector<uint32_t>{mode});
-    passes.shade = std::make_unique<vk::Pipeline>(context_, RTSDF_SPIRV(spirv_shade_comp), kBindings,
-                                                  uint32_t(sizeof(gpu::ShadePush)), std::vector<uint32_t>{mode});
+    passes.quad = make(RTSDF_SPIRV(spirv_quad_visibility_comp), gpu::kShadeFull);
+    passes.shade = make(RTSDF_SPIRV(spirv_shade_comp), gpu::kShadeFull);
   }
-  for (const vk::Pipeline* pass : {passes.sky.get(), passes.shade.get()}) {
-    const bool sky = pass == passes.sky.get();
-    if (sky && !march_sky) continue;
-    pass->bind(cmd);
-    pass->push_descriptors(
+  if (!passes.shade_shared && mode != gpu::kVisibilityShadowMaps) {
+    passes.quad_with_lights = make(RTSDF_SPIRV(spirv_quad_visibility_comp), gpu::kShadeShared);
+    passes.shade_shared = make(RTSDF_SPIRV(spirv_shade_comp), gpu::kShadeShared);
+    passes.shade_fill = make(RTSDF_SPIRV(spirv_shade_comp), gpu::kShadeFill);
+  }
+  return passes;
+}
+
+void ShadePass::resize(glm::ivec2 size, int lights) {
+  const glm::ivec2 quads = (size + 1) / 2;
+  if (size != size_) {
+    quad_samples_ = vk::Image::plane(context_, quads.x, quads.y, VK_FORMAT_R32G32B32A32_SFLOAT, VK_IMAGE_USAGE_STORAGE_BIT);
+    vk::make_general(context_, {&quad_samples_});
+    fill_list_ = vk::Buffer(context_, sizeof(uint32_t) * (4 + VkDeviceSize(size.x) * VkDeviceSize(size.y)),
+                            VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT |
+                                VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                            vk::Buffer::Access::DeviceOnly);
+    quad_lights_ = {};
+    size_ = size;
+  }
+  const VkDeviceSize light_bytes = sizeof(float) * VkDeviceSize(quads.x) * VkDeviceSize(quads.y) * std::max(lights, 1);
+  if (!quad_lights_ || quad_lights_.size() < light_bytes)
+    quad_lights_ = vk::Buffer(context_, light_bytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, vk::Buffer::Access::DeviceOnly);
+}
+
+void ShadePass::record(VkCommandBuffer cmd, const GBufferPass& gbuffer, const MarchFields& fields,
+                       const ShadowMapPass* shadow_maps, const vk::Buffer& lights, const vk::Buffer& frame,
+                       const vk::Image& accum_color, const vk::Image& accum_passes, bool march_sky, bool share_lights,
+                       const gpu::ShadePush& push, vk::GpuTimer* timer) {
+  const uint32_t mode = push.visibility.x;
+  share_lights = share_lights && mode != gpu::kVisibilityShadowMaps && push.image.z > 0;
+  Passes& passes = passes_for(mode);
+  const glm::ivec2 size(push.image);
+  if (size != size_ || quad_lights_.size() < sizeof(float) * VkDeviceSize(push.image.z) * ((size.x + 1) / 2) * ((size.y + 1) / 2))
+    throw Error("ShadePass: resize() to the image and the lights first");
+  auto run = [&](const vk::Pipeline& pass) {
+    pass.bind(cmd);
+    pass.push_descriptors(
         cmd, {vk::Resource::storage_image(gbuffer.position()), vk::Resource::storage_image(gbuffer.normal()),
               vk::Resource::storage_image(gbuffer.albedo()), vk::Resource::storage_buffer(fields.instances()),
               vk::Resource::storage_buffer(lights), vk::Resource::storage_buffer(frame),
@@ -51,13 +83,33 @@ void ShadePass::record(VkCommandBuffer cmd, const GBufferPass& gbuffer, const Ma
               vk::Resource::storage_image(shadow_maps ? shadow_maps->moments() : no_shadow_atlas_),
               vk::Resource::storage_buffer(shadow_maps ? shadow_maps->tiles() : no_shadow_tiles_),
               vk::Resource::storage_buffer(shadow_maps ? shadow_maps->light_tiles() : no_shadow_tiles_),
-              vk::Resource::storage_buffer(fields.nodes()), vk::Resource::storage_image(sky_samples)});
-    pass->push_constants(cmd, push);
-    const glm::ivec2 size = sky ? (glm::ivec2(push.image) + 1) / 2 : glm::ivec2(push.image);
-    vkCmdDispatch(cmd, vk::group_count(size.x, 8), vk::group_count(size.y, 8), 1);
-    if (sky)
-      vk::memory_barrier(cmd, VK_ACCESS_SHADER_WRITE_BIT, VK_ACCESS_SHADER_READ_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
-                         VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT);
+              vk::Resource::storage_buffer(fields.nodes()), vk::Resource::storage_image(quad_samples_),
+              vk::Resource::storage_buffer(quad_lights_), vk::Resource::storage_buffer(fill_list_)});
+    pass.push_constants(cmd, push);
+  };
+  auto barrier = [&](VkAccessFlags dst_access, VkPipelineStageFlags dst_stage) {
+    vk::memory_barrier(cmd, VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT, dst_access,
+                       VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT, dst_stage);
+  };
+  const glm::ivec2 quads = (size + 1) / 2;
+  if (march_sky || share_lights) {
+    run(share_lights ? *passes.quad_with_lights : *passes.quad);
+    vkCmdDispatch(cmd, vk::group_count(quads.x, 8), vk::group_count(quads.y, 8), 1);
+    if (share_lights) {
+      const uint32_t empty_list[4] = {0u, 1u, 1u, 0u};  // no groups yet (x), 1 (y, z), no pixels
+      vkCmdUpdateBuffer(cmd, fill_list_.handle(), 0, sizeof empty_list, empty_list);
+    }
+    barrier(VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT);
+    if (timer) timer->mark(cmd, "quad");
+  }
+  run(share_lights ? *passes.shade_shared : *passes.shade);
+  vkCmdDispatch(cmd, vk::group_count(size.x, 8), vk::group_count(size.y, 8), 1);
+  if (share_lights) {
+    static_assert(kFillGroup == 64, "shade.comp lists the fill pass's pixels in groups of 64");
+    barrier(VK_ACCESS_INDIRECT_COMMAND_READ_BIT | VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT,
+            VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT | VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT);
+    run(*passes.shade_fill);
+    vkCmdDispatchIndirect(cmd, fill_list_.handle(), 0);
   }
 }
 

@@ -2,7 +2,9 @@
 // Pass 3b: shading with soft shadows (see shaders/shade.comp), averaged into
 // the Combined and Depth/Shadow accumulation images. Visibility marches the
 // distance fields in `fields` (fine SDFs, or the coarse one for jfa_only) or
-// looks up the EVSM shadow maps of csm_evsm.
+// looks up the EVSM shadow maps of csm_evsm. Some of it is marched at a
+// quarter of the pixels first (shaders/quad_visibility.comp): the world
+// light's always, the lights' in a shared-visibility frame.
 #include <array>
 #include <memory>
 
@@ -13,33 +15,49 @@
 #include "shaders/shared.h"
 #include "vk/pipeline.h"
 #include "vk/resources.h"
+#include "vk/timer.h"
 
 namespace rtsdf {
 
 class ShadePass {
  public:
   explicit ShadePass(const vk::Context& context);
+  // Sizes the quad pass's outputs and the fill list for an image and a light
+  // count (outside a command buffer: a new image is set up by a submission).
+  void resize(glm::ivec2 size, int lights);
   // `shadow_maps`: only with push.visibility.x == kVisibilityShadowMaps
-  // (null: placeholders are bound in their place). `sky_samples`: one texel
-  // per 2x2 quad of the image (see shaders/shade_inputs.glsl.h), marched
-  // first when `march_sky` (the world light is marched: it has some colour
-  // and the method is an SDF's).
-  // The pipelines are made for push.visibility.x's method on its first use.
+  // (null: placeholders are bound in their place). `march_sky`: the world
+  // light is marched (it has some colour and the method is an SDF's).
+  // `share_lights` (SDF methods only): the lights' visibility too is marched
+  // at one pixel of each 2x2 quad and taken from there by the pixels on the
+  // same surface; the others (silhouettes, thin parts) march their own in a
+  // third pass over just those pixels. About half the cost of marching
+  // every pixel, with penumbrae resolved at a quarter of the pixels: for the
+  // viewport's frame after a change, whose later accumulation frames march
+  // every pixel.
+  // The pipelines are made for push.visibility.x's method on their first use.
+  // `timer` (optional) gets a "quad" mark after the quad pass.
   void record(VkCommandBuffer cmd, const GBufferPass& gbuffer, const MarchFields& fields,
               const ShadowMapPass* shadow_maps, const vk::Buffer& lights, const vk::Buffer& frame,
-              const vk::Image& accum_color, const vk::Image& accum_passes, const vk::Image& sky_samples,
-              bool march_sky, const gpu::ShadePush& push);
+              const vk::Image& accum_color, const vk::Image& accum_passes, bool march_sky, bool share_lights,
+              const gpu::ShadePush& push, vk::GpuTimer* timer = nullptr);
 
  private:
-  // Per visibility method (kVisibility*): its sky and shading passes,
-  // specialized so that each holds only that method's code.
+  // Per visibility method (kVisibility*): its passes, specialized so that
+  // each holds only that method's and that part's code (kShade*).
   struct Passes {
-    std::unique_ptr<vk::Pipeline> sky, shade;
+    std::unique_ptr<vk::Pipeline> quad, quad_with_lights, shade, shade_shared, shade_fill;
   };
+  Passes& passes_for(uint32_t mode);
+
   const vk::Context& context_;
   std::array<Passes, 3> passes_;
   vk::Image no_shadow_atlas_;   // 1 texel
   vk::Buffer no_shadow_tiles_;  // one tile, and one light's empty range
+  glm::ivec2 size_{0};
+  vk::Image quad_samples_;      // per 2x2 quad: its sample's normal and world light
+  vk::Buffer quad_lights_;      // per light and quad: the light's visibility at the quad's sample
+  vk::Buffer fill_list_;        // the fill pass's indirect dispatch, then the pixels it shades
 };
 
 }  // namespace rtsdf

@@ -178,13 +178,15 @@ rtsdf::RenderSettings settings_of(const py::dict& settings_desc) {
   settings.sdf_updates = get<int>(settings_desc, "sdf_updates", settings.sdf_updates);
   settings.grid_slack = get<float>(settings_desc, "grid_slack", settings.grid_slack);
   settings.field_budget_mb = get<double>(settings_desc, "field_budget_mb", settings.field_budget_mb);
+  settings.quick_first_frame = get<bool>(settings_desc, "quick_first_frame", settings.quick_first_frame);
   return settings;
 }
 
 py::dict timings_of(const rtsdf::RenderTimings& t) {
   return py::dict(py::arg("sdf") = t.coarse_ms, py::arg("fine") = t.fine_ms, py::arg("shadow_map") = t.shadow_map_ms,
                   py::arg("shade") = t.shade_ms, py::arg("total") = t.total_ms,
-                  py::arg("gbuffer_gpu") = t.gbuffer_gpu_ms, py::arg("shade_gpu") = t.shade_gpu_ms);
+                  py::arg("gbuffer_gpu") = t.gbuffer_gpu_ms, py::arg("quad_gpu") = t.quad_gpu_ms,
+                  py::arg("shade_gpu") = t.shade_gpu_ms);
 }
 
 // What the SDF methods did (see rtsdf::RenderStats).

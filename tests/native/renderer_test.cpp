@@ -115,6 +115,75 @@ TEST_F(RendererTest, SpherePenumbraMatchesAnalyticWidth) {
   EXPECT_NEAR(out.depth[size_t(row) * size + size - 3], 10.0f, 0.01f);
 }
 
+// A quick first frame (the lights' visibility marched at one pixel of each
+// 2x2 quad, shared along surfaces, marched anew where no quad's sample lies on
+// the pixel's surface) shades every pixel the full frame does, alike. A box
+// on the ground seen from above, the sun 45 degrees off overhead towards +x:
+// the box's top is lit to its edge at x = 0.5, and the ground right beyond
+// that edge lies in the box's shadow. The top's pixels along the edge must
+// take nothing from the ground's samples. A wall under a pixel thick, along
+// the middle of an odd column, has no quad sample on its top (frame 0 samples
+// even columns): its pixels are shaded by the fill pass.
+TEST_F(RendererTest, QuickFirstFrameSharesShadowsAlongSurfacesOnly) {
+  Scene scene = box_on_ground({-0.5f, -0.5f, 0.0f}, {0.5f, 0.5f, 1.0f}, 20.0f);
+  const int size = 128;
+  const float wall_x = -2.0f + 17.5f * 4.0f / float(size);  // column 17's centre
+  scene.meshes.push_back(reference::box({wall_x - 0.007f, -1.5f, 0.0f}, {wall_x + 0.007f, 1.5f, 0.5f}));
+  scene.instances.push_back({2, glm::mat4(1.0f)});
+  GpuScene gpu_scene(context(), scene);
+  const Camera camera = orthographic_view({0, 0, 10}, {0, 0, 0}, {0, 1, 0}, 2.0f);
+  Light sun;
+  sun.type = LightType::Sun;
+  const double tilt = M_PI / 4;
+  sun.direction = {float(std::sin(tilt)), 0, -float(std::cos(tilt))};
+  sun.energy = 3.0f;
+  sun.sun_angle = 5.0f * float(M_PI) / 180.0f;
+  RenderSettings settings;
+  settings.samples = 1;
+  Renderer renderer(context());
+  // (the quick frame first, into fresh images: a pixel it left unshaded cannot keep the full frame's colour)
+  settings.quick_first_frame = true;
+  const RenderOutput quick = renderer.render(gpu_scene, camera, {sun}, glm::vec3(0.05f), size, size, settings);
+  settings.quick_first_frame = false;
+  const RenderOutput full = renderer.render(gpu_scene, camera, {sun}, glm::vec3(0.05f), size, size, settings);
+  ASSERT_EQ(quick.combined.size(), full.combined.size());
+
+  // Away from shadow edges (pixels whose full-frame visibility differs from
+  // a neighbour's within 2 pixels, the reach of the quads' interpolation) the
+  // two frames agree.
+  auto full_at = [&](int x, int y) { return full.shadow[size_t(std::clamp(y, 0, size - 1)) * size + std::clamp(x, 0, size - 1)]; };
+  auto near_edge = [&](int x, int y) {
+    for (int dy = -2; dy <= 2; ++dy)
+      for (int dx = -2; dx <= 2; ++dx)
+        if (std::abs(full_at(x + dx, y + dy) - full_at(x, y)) > 0.05f) return true;
+    return false;
+  };
+  int differing = 0, off_edges = 0;
+  for (int y = 0; y < size; ++y)
+    for (int x = 0; x < size; ++x) {
+      const size_t i = size_t(y) * size + x;
+      ASSERT_EQ(quick.combined[4 * i + 3], full.combined[4 * i + 3]) << "pixel " << x << ", " << y << ": coverage";
+      const float d = std::abs(quick.shadow[i] - full.shadow[i]);
+      differing += d > 1e-6f;
+      if (d > 0.05f && !near_edge(x, y)) {
+        ++off_edges;
+        ADD_FAILURE() << "pixel " << x << ", " << y << ": visibility " << quick.shadow[i] << " against " << full.shadow[i];
+      }
+    }
+  std::printf("quick first frame: visibility differs at %d of %d pixels, by more than 0.05 at %d away from edges\n",
+              differing, size * size, off_edges);
+  EXPECT_GT(differing, 0) << "the quick frame shares visibility";
+
+  // Pixel i covers x = -2 + (i + 0.5) * 4 / size: the top's last columns, then the shadowed ground's first.
+  const int edge = size / 2 + size / 8;  // x = 0.5
+  for (int y = size / 2 - size / 16; y < size / 2 + size / 16; ++y) {
+    for (int i = edge - 3; i < edge; ++i)
+      EXPECT_GT(quick.shadow[size_t(y) * size + i], 0.95f) << "the lit top at pixel " << i << ", row " << y;
+    for (int i = edge; i < edge + 3; ++i)
+      EXPECT_LT(quick.shadow[size_t(y) * size + i], 0.05f) << "the shadowed ground at pixel " << i << ", row " << y;
+  }
+}
+
 // The sub-pixel jitter follows Cycles' Blackman-Harris pixel filter: offsets
 // from evenly spread shares have the window's spread (its variance, by direct
 // integration of the window), lie within it and are symmetric; width 0 is a box.
