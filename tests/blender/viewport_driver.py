@@ -5,9 +5,10 @@ the time of a frame change plus redraw against EEVEE's in the same run).
 
 xvfb-run -a -s "-screen 0 1280x800x24" blender --window-geometry 0 0 1200 760 --addons rtsdf \
     SCENE.blend --python tests/blender/viewport_driver.py -- OUT_DIR [--moving OBJECT] [--frames N] [--compare-eevee]
-    [--scale S] [--pixel-size N]
+    [--scale S] [--pixel-size N] [--compare-full-first-frame]
 
---scale sets RTSDF's Viewport Scale (the share of the region's width and
+--compare-full-first-frame times the frame changes again with Quick First
+Frame off (every pixel marches its lights), after EEVEE's. --scale sets RTSDF's Viewport Scale (the share of the region's width and
 height it renders); --pixel-size sets Blender's viewport Pixel Size
 (render.preview_pixel_size: 1, 2, 4 or 8), which the engines that honour it
 (Cycles, EEVEE) use. Compare engines at the same pixel count.
@@ -35,6 +36,7 @@ FRAMES = int(args[args.index("--frames") + 1]) if "--frames" in args else 100
 COMPARE_EEVEE = "--compare-eevee" in args
 SCALE = float(args[args.index("--scale") + 1]) if "--scale" in args else None
 PIXEL_SIZE = args[args.index("--pixel-size") + 1] if "--pixel-size" in args else None
+COMPARE_FULL_FIRST_FRAME = "--compare-full-first-frame" in args
 TIMEOUT = 120.0
 os.makedirs(OUT, exist_ok=True)
 results = {"errors": []}
@@ -212,7 +214,7 @@ def steps():
         moving.location = start_location + type(start_location)((0.5 * math.cos(angle) - 0.5, 0.5 * math.sin(angle), 0))
         moving.keyframe_insert("location", frame=f)
 
-    def frame_changes(engine_name):
+    def frame_changes(engine_name, record=True):
         scene.render.engine = engine_name
         yield 1.0
         if engine_name == "RTSDF":
@@ -233,7 +235,7 @@ def steps():
             memory.append(rss_mib())
             if f % 10 == 0:
                 yield 0.0
-        if draws:
+        if draws and record:
             results["draw_ms_median"] = {k: float(np.median([d.get(k, 0.0) for d in draws])) for k in draws[-1]}
             results["stages_ms_median"] = {k: float(np.median([s.get(k, 0.0) for s in stages])) for k in stages[-1]}
             results["stages_ms_frames"] = stages
@@ -250,6 +252,12 @@ def steps():
         eevee_times, _ = yield from frame_changes("BLENDER_EEVEE")
         results["eevee_frame_change_ms"] = {"median": 1000 * float(np.median(eevee_times)),
                                             "max": 1000 * float(np.max(eevee_times))}
+    if COMPARE_FULL_FIRST_FRAME:
+        scene.rtsdf.viewport_quick_first_frame = False
+        full_times, _ = yield from frame_changes("RTSDF", record=False)
+        results["full_first_frame_change_ms"] = {"median": 1000 * float(np.median(full_times)),
+                                                 "max": 1000 * float(np.max(full_times))}
+        scene.rtsdf.viewport_quick_first_frame = True
 
 
 def run():
