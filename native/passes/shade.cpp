@@ -1,5 +1,6 @@
 #include "passes/shade.h"
 
+#include <algorithm>
 #include <vector>
 
 #include "error.h"
@@ -58,7 +59,8 @@ void ShadePass::resize(glm::ivec2 size, int lights) {
     quad_lights_ = {};
     size_ = size;
   }
-  const VkDeviceSize light_bytes = sizeof(float) * VkDeviceSize(quads.x) * VkDeviceSize(quads.y) * std::max(lights, 1);
+  const VkDeviceSize light_bytes =
+      sizeof(float) * VkDeviceSize(quads.x) * VkDeviceSize(quads.y) * std::clamp(lights, 1, kMaxSharedLights);
   if (!quad_lights_ || quad_lights_.size() < light_bytes)
     quad_lights_ = vk::Buffer(context_, light_bytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, vk::Buffer::Access::DeviceOnly);
 }
@@ -68,10 +70,13 @@ void ShadePass::record(VkCommandBuffer cmd, const GBufferPass& gbuffer, const Ma
                        const vk::Image& accum_color, const vk::Image& accum_passes, bool march_sky, bool share_lights,
                        const gpu::ShadePush& push, vk::GpuTimer* timer) {
   const uint32_t mode = push.visibility.x;
-  share_lights = share_lights && mode != gpu::kVisibilityShadowMaps && push.image.z > 0;
+  share_lights = share_lights && mode != gpu::kVisibilityShadowMaps && push.image.z > 0 &&
+                 push.image.z <= kMaxSharedLights;
   Passes& passes = passes_for(mode);
   const glm::ivec2 size(push.image);
-  if (size != size_ || quad_lights_.size() < sizeof(float) * VkDeviceSize(push.image.z) * ((size.x + 1) / 2) * ((size.y + 1) / 2))
+  const glm::ivec2 quads = (size + 1) / 2;
+  const VkDeviceSize shared_bytes = sizeof(float) * VkDeviceSize(quads.x) * VkDeviceSize(quads.y) * push.image.z;
+  if (size != size_ || (share_lights && quad_lights_.size() < shared_bytes))
     throw Error("ShadePass: resize() to the image and the lights first");
   auto run = [&](const vk::Pipeline& pass) {
     pass.bind(cmd);
@@ -91,7 +96,6 @@ void ShadePass::record(VkCommandBuffer cmd, const GBufferPass& gbuffer, const Ma
     vk::memory_barrier(cmd, VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT, dst_access,
                        VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT, dst_stage);
   };
-  const glm::ivec2 quads = (size + 1) / 2;
   if (march_sky || share_lights) {
     run(share_lights ? *passes.quad_with_lights : *passes.quad);
     vkCmdDispatch(cmd, vk::group_count(quads.x, 8), vk::group_count(quads.y, 8), 1);

@@ -21,6 +21,7 @@ namespace rtsdf {
 
 class ShadePass {
  public:
+  static constexpr int kMaxSharedLights = 16;
   explicit ShadePass(const vk::Context& context);
   // Sizes the quad pass's outputs and the fill list for an image and a light
   // count (outside a command buffer: a new image is set up by a submission).
@@ -35,6 +36,8 @@ class ShadePass {
   // every pixel, with penumbrae resolved at a quarter of the pixels: for the
   // viewport's frame after a change, whose later accumulation frames march
   // every pixel.
+  // Lights are shared up to kMaxSharedLights (the quad pass keeps a value
+  // per light and quad); with more, every pixel marches them.
   // The pipelines are made for push.visibility.x's method on their first use.
   // `timer` (optional) gets a "quad" mark after the quad pass.
   void record(VkCommandBuffer cmd, const GBufferPass& gbuffer, const MarchFields& fields,

@@ -184,6 +184,29 @@ TEST_F(RendererTest, QuickFirstFrameSharesShadowsAlongSurfacesOnly) {
   }
 }
 
+// With more lights than ShadePass shares (it keeps a value per light and
+// quad), a quick first frame marches them at every pixel: the same image.
+TEST_F(RendererTest, QuickFirstFrameWithManyLightsMarchesEveryPixel) {
+  GpuScene gpu_scene(context(), box_on_ground({-0.5f, -0.5f, 0.0f}, {0.5f, 0.5f, 1.0f}, 20.0f));
+  const Camera camera = orthographic_view({0, 0, 10}, {0, 0, 0}, {0, 1, 0}, 2.0f);
+  std::vector<Light> lights(ShadePass::kMaxSharedLights + 1);
+  for (size_t i = 0; i < lights.size(); ++i) {
+    lights[i].type = LightType::Point;
+    lights[i].position = {2.0f * std::cos(0.4f * float(i)), 2.0f * std::sin(0.4f * float(i)), 2.0f};
+    lights[i].energy = 10.0f;
+  }
+  RenderSettings settings;
+  settings.samples = 1;
+  const int size = 32;
+  Renderer renderer(context());
+  settings.quick_first_frame = true;
+  const RenderOutput quick = renderer.render(gpu_scene, camera, lights, glm::vec3(0.0f), size, size, settings);
+  settings.quick_first_frame = false;
+  const RenderOutput full = renderer.render(gpu_scene, camera, lights, glm::vec3(0.0f), size, size, settings);
+  ASSERT_EQ(quick.combined.size(), full.combined.size());
+  for (size_t i = 0; i < quick.combined.size(); ++i) ASSERT_EQ(quick.combined[i], full.combined[i]) << "value " << i;
+}
+
 // The sub-pixel jitter follows Cycles' Blackman-Harris pixel filter: offsets
 // from evenly spread shares have the window's spread (its variance, by direct
 // integration of the window), lie within it and are symmetric; width 0 is a box.
