@@ -17,7 +17,6 @@ constexpr VkDescriptorType kBuffer = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
 // Every pass sees the same bindings (each reads those it needs).
 const std::vector<VkDescriptorType> kBindings = {kImage, kImage, kImage,  kBuffer, kBuffer, kBuffer, kImage, kImage,
                                                  kImage, kBuffer, kBuffer, kBuffer, kImage, kBuffer, kBuffer};
-constexpr uint32_t kFillGroup = 64;  // pixels per group of the fill pass (shade.comp's 8 x 8)
 }  // namespace
 
 ShadePass::ShadePass(const vk::Context& context)
@@ -28,7 +27,7 @@ ShadePass::ShadePass(const vk::Context& context)
   vk::make_general(context, {&no_shadow_atlas_});
 }
 
-ShadePass::Passes& ShadePass::passes_for(uint32_t mode) {
+ShadePass::Passes& ShadePass::passes_for(uint32_t mode, bool share_lights) {
   if (mode >= passes_.size()) throw Error("ShadePass: unknown visibility method");
   Passes& passes = passes_[mode];
   auto make = [&](vk::Spirv spirv, uint32_t stage) {
@@ -39,7 +38,7 @@ ShadePass::Passes& ShadePass::passes_for(uint32_t mode) {
     passes.quad = make(RTSDF_SPIRV(spirv_quad_visibility_comp), gpu::kShadeFull);
     passes.shade = make(RTSDF_SPIRV(spirv_shade_comp), gpu::kShadeFull);
   }
-  if (!passes.shade_shared && mode != gpu::kVisibilityShadowMaps) {
+  if (share_lights && !passes.shade_shared) {
     passes.quad_with_lights = make(RTSDF_SPIRV(spirv_quad_visibility_comp), gpu::kShadeShared);
     passes.shade_shared = make(RTSDF_SPIRV(spirv_shade_comp), gpu::kShadeShared);
     passes.shade_fill = make(RTSDF_SPIRV(spirv_shade_comp), gpu::kShadeFill);
@@ -72,7 +71,7 @@ void ShadePass::record(VkCommandBuffer cmd, const GBufferPass& gbuffer, const Ma
   const uint32_t mode = push.visibility.x;
   share_lights = share_lights && mode != gpu::kVisibilityShadowMaps && push.image.z > 0 &&
                  push.image.z <= kMaxSharedLights;
-  Passes& passes = passes_for(mode);
+  Passes& passes = passes_for(mode, share_lights);
   const glm::ivec2 size(push.image);
   const glm::ivec2 quads = (size + 1) / 2;
   const VkDeviceSize shared_bytes = sizeof(float) * VkDeviceSize(quads.x) * VkDeviceSize(quads.y) * push.image.z;
@@ -109,7 +108,7 @@ void ShadePass::record(VkCommandBuffer cmd, const GBufferPass& gbuffer, const Ma
   run(share_lights ? *passes.shade_shared : *passes.shade);
   vkCmdDispatch(cmd, vk::group_count(size.x, 8), vk::group_count(size.y, 8), 1);
   if (share_lights) {
-    static_assert(kFillGroup == 64, "shade.comp lists the fill pass's pixels in groups of 64");
+    // (shade.comp counts the listed pixels' groups of 64, its 8 x 8, in the list's first word)
     barrier(VK_ACCESS_INDIRECT_COMMAND_READ_BIT | VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT,
             VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT | VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT);
     run(*passes.shade_fill);

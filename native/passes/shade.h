@@ -51,7 +51,8 @@ class ShadePass {
   struct Passes {
     std::unique_ptr<vk::Pipeline> quad, quad_with_lights, shade, shade_shared, shade_fill;
   };
-  Passes& passes_for(uint32_t mode);
+  // (those of a shared-visibility frame only once one is asked for)
+  Passes& passes_for(uint32_t mode, bool share_lights);
 
   const vk::Context& context_;
   std::array<Passes, 3> passes_;
