@@ -3,13 +3,16 @@ camera view at a given size, drawn through the native viewport as the 3D
 view draws it, its medians over 30 accumulation frames after 20 to warm up.
 
 BLENDER_USER_SCRIPTS=build/blender_user_scripts blender -b SCENE.blend --addons rtsdf \\
-    --python bench/shading_bench.py -- [--method M] [--size W H] [--no-world] [--no-lights]
+    --python bench/shading_bench.py -- [--method M] [--size W H] [--no-world] [--no-lights] [--first-frame]
 
 Prints the wall time of the shading stage (G-buffer and shading, submitted
 and waited for), the device time of its passes (on lavapipe the G-buffer's
 rasterization finishes inside the next pass's span) and the process's CPU
 time per frame (on a CPU device, the work of every core). --no-world and
 --no-lights leave out the world light or the lights, to see what each costs.
+--first-frame times instead the first frame after a frame change (nothing
+moves: the transforms are sent again, and the converged fields stay), as in
+playback, with Quick First Frame off and on in turn, 15 of each.
 """
 import resource
 import sys
@@ -37,6 +40,32 @@ options.update(samples=4096, sdf_updates=0, interleave=4, grid_slack=0.5, shadow
 for _ in range(20):  # the fields refine, the pipelines are made
     out = viewport.draw(view, options)
 keys = ("shade", "gbuffer_gpu", "quad_gpu", "shade_gpu")
+
+
+def report(label, per_frame, cpu_ms):
+    print(f"shading_bench: {method} {width}x{height}{label} on {session.device}: shading "
+          f"{np.median(per_frame['shade']):.1f} ms (device: G-buffer {np.median(per_frame['gbuffer_gpu']):.1f}, "
+          f"shading {np.median(per_frame['shade_gpu']):.1f} of which the quad pass "
+          f"{np.median(per_frame['quad_gpu']):.1f}), CPU {cpu_ms:.1f} ms a frame")
+
+
+if "--first-frame" in args:
+    matrices = [instance["matrix"] for instance in scene["instances"]]
+    runs = {quick: ({k: [] for k in keys}, []) for quick in (False, True)}
+    for _ in range(15):
+        for quick, (per_frame, cpu) in runs.items():
+            options["quick_first_frame"] = quick
+            viewport.set_transforms(matrices)  # a frame change: the accumulation restarts
+            start = resource.getrusage(resource.RUSAGE_SELF)
+            out = viewport.draw(view, options)
+            end = resource.getrusage(resource.RUSAGE_SELF)
+            cpu.append((end.ru_utime + end.ru_stime - start.ru_utime - start.ru_stime) * 1000)
+            for k in keys:
+                per_frame[k].append(out["ms"][k])
+    for quick, (per_frame, cpu) in runs.items():
+        report(", first frame" + (", quick" if quick else ", full"), per_frame, float(np.median(cpu)))
+    sys.exit(0)
+
 last = {k: out["ms"][k] for k in keys}
 per_frame = {k: [] for k in keys}
 start = resource.getrusage(resource.RUSAGE_SELF)
@@ -46,8 +75,4 @@ for _ in range(30):
         per_frame[k].append(out["ms"][k] - last[k])
         last[k] = out["ms"][k]
 end = resource.getrusage(resource.RUSAGE_SELF)
-cpu_ms = (end.ru_utime + end.ru_stime - start.ru_utime - start.ru_stime) / 30 * 1000
-print(f"shading_bench: {method} {width}x{height} on {session.device}: shading {np.median(per_frame['shade']):.1f} ms "
-      f"(device: G-buffer {np.median(per_frame['gbuffer_gpu']):.1f}, shading {np.median(per_frame['shade_gpu']):.1f} "
-      f"of which the quad pass {np.median(per_frame['quad_gpu']):.1f}), "
-      f"CPU {cpu_ms:.1f} ms a frame")
+report("", per_frame, (end.ru_utime + end.ru_stime - start.ru_utime - start.ru_stime) / 30 * 1000)
