@@ -34,9 +34,7 @@ void main() {
   for (int l = 0; l < pc.image.z; ++l) {
     LightPath path = light_path(lights[l], p, origin);
     float v = -1.0;
-    if (faces_light(path, n))
-      v = light_visibility(origin, path.march_dir, pc.march.z * receiver_voxel, path.t_max, path.tan_radius, jitter,
-                           2.0 * receiver_voxel, pixel);
+    if (faces_light(path, n)) v = march_light(path, origin, receiver_voxel, jitter, pixel);
     quad_lights[l * quad_count() + quad_index] = v;
   }
 }

@@ -163,8 +163,7 @@ void main() {
       } else if (kVisibilityMode == kVisibilityShadowMaps) {
         v = shadow_map_visibility(l, p, n, in_sdf);
       } else {
-        v = light_visibility(origin, path.march_dir, pc.march.z * receiver_voxel, path.t_max, path.tan_radius, jitter,
-                             2.0 * receiver_voxel, pixel);
+        v = march_light(path, origin, receiver_voxel, jitter, pixel);
       }
       vec3 direct = path.irradiance * dot(n, path.dir);
       color += albedo * direct * v;

@@ -114,3 +114,11 @@ LightPath light_path(GpuLight light, vec3 p, vec3 origin) {
 
 // Whether a light reaches p's side of its surface at all (no march needed where not).
 bool faces_light(LightPath path, vec3 n) { return dot(n, path.dir) > 0.0 && dot(path.irradiance, path.irradiance) > 0.0; }
+
+// The share of a light reaching a receiver (held by a field of world voxel
+// receiver_voxel, 0: in none) from its march start `origin`: the march starts
+// pc.march.z of its voxels along the ray and escapes its own shell within two.
+float march_light(LightPath path, vec3 origin, float receiver_voxel, float jitter, ivec2 pixel) {
+  return light_visibility(origin, path.march_dir, pc.march.z * receiver_voxel, path.t_max, path.tan_radius, jitter,
+                          2.0 * receiver_voxel, pixel);
+}
