@@ -39,7 +39,7 @@ void FineSdf::allocate(const GridSpec& grid) {
   const VkImageUsageFlags usage =
       VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT | VK_IMAGE_USAGE_SAMPLED_BIT;
   distance_ = vk::Image(context_, grid.dims, VK_FORMAT_R32_SFLOAT, usage);
-  hit_counts_ = vk::Image(context_, grid.dims, VK_FORMAT_R32G32B32A32_SFLOAT, usage);
+  history_ = vk::Image(context_, grid.dims, VK_FORMAT_R32G32B32A32_SFLOAT, usage);
   trace_list_ = vk::Buffer(context_, (grid.voxel_count() + 1) * sizeof(uint32_t),
                            VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT |
                                VK_BUFFER_USAGE_TRANSFER_SRC_BIT,
@@ -47,14 +47,14 @@ void FineSdf::allocate(const GridSpec& grid) {
   dispatch_ = vk::Buffer(context_, 4 * sizeof(uint32_t),
                          VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT,
                          vk::Buffer::Access::DeviceOnly);
-  vk::make_general(context_, {&distance_, &hit_counts_});
+  vk::make_general(context_, {&distance_, &history_});
   grid_ = grid;
   frame_ = 0;
 }
 
 void FineSdf::release() {
   distance_ = {};
-  hit_counts_ = {};
+  history_ = {};
   trace_list_ = {};
   dispatch_ = {};
   grid_ = {};
@@ -75,7 +75,7 @@ void FineSdf::update(const GpuScene::RayTargets& rays, const CoarseSdf& coarse, 
   allocate(fine_grid);
   context_.submit_and_wait([&](VkCommandBuffer cmd) {
     timer_.begin(cmd);
-    pass_->record(cmd, rays, coarse.grid(), coarse.distance(), grid_, distance_, hit_counts_, trace_list_, dispatch_,
+    pass_->record(cmd, rays, coarse.grid(), coarse.distance(), grid_, distance_, history_, trace_list_, dispatch_,
                   settings, coarse.beta_world(), frame_, frame_ == 0, changed, &timer_);
     vk::memory_barrier(cmd, VK_ACCESS_SHADER_WRITE_BIT, VK_ACCESS_TRANSFER_READ_BIT,
                        VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT);

@@ -56,7 +56,7 @@ class FineSdf {
   vk::GpuTimer timer_;
   GridSpec grid_;
   vk::Image distance_;
-  vk::Image hit_counts_;
+  vk::Image history_;
   vk::Buffer trace_list_;
   vk::Buffer dispatch_;
   vk::Buffer traced_;  // host-visible copy of the last update's trace count

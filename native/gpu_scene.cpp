@@ -9,6 +9,7 @@
 
 #include "error.h"
 #include "mesh_topology.h"
+#include "winding_number.h"
 #include "shaders/shared.h"
 
 namespace rtsdf {
@@ -79,7 +80,7 @@ const GpuScene::RayStructures& GpuScene::ray_structures() {
   if (!has_ray_structures_) {
     Clock::time_point start = Clock::now();
     mesh_bvhs_.resize(scene_.meshes.size());
-    piece_thickness_.resize(scene_.meshes.size());
+    pieces_.resize(scene_.meshes.size());
     for (uint32_t m = 0; m < scene_.meshes.size(); ++m) build_bottom_level(m);
     upload_bottom_levels();
     build_top_level();
@@ -104,7 +105,7 @@ GpuScene::RayTargets GpuScene::mesh_rays(uint32_t mesh) {
     top.top_nodes = storage(context_, std::vector<gpu::BvhNode>{root});
     top.instances = storage(context_, std::vector<gpu::RayInstance>{instance});
   }
-  return {top.top_nodes, top.instances, rays.bottom_nodes, rays.triangles};
+  return {top.top_nodes, top.instances, rays.bottom_nodes, rays.triangles, rays.winding_dipoles};
 }
 
 Bounds GpuScene::mesh_bounds(uint32_t mesh) const {
@@ -138,11 +139,12 @@ void GpuScene::upload_raster() {
 
 void GpuScene::build_bottom_level(uint32_t mesh) {
   mesh_bvhs_[mesh] = build_mesh_bvh(scene_.meshes[mesh]);
-  piece_thickness_[mesh] = piece_thickness(scene_.meshes[mesh]);
+  pieces_[mesh] = mesh_pieces(scene_.meshes[mesh]);
 }
 
 void GpuScene::upload_bottom_levels() {
   std::vector<gpu::BvhNode> nodes;
+  std::vector<gpu::WindingDipole> dipoles;
   std::vector<glm::vec4> corners;
   blas_roots_.clear();
   for (uint32_t m = 0; m < scene_.meshes.size(); ++m) {
@@ -152,13 +154,18 @@ void GpuScene::upload_bottom_levels() {
     blas_roots_.push_back(node_offset);
     const std::vector<gpu::BvhNode> mesh_nodes = gpu_nodes(bvh, node_offset, triangle_offset);
     nodes.insert(nodes.end(), mesh_nodes.begin(), mesh_nodes.end());
-    // The first corner's w is the thickness of the triangle's piece (0: open), see mesh_topology.h.
+    const std::vector<gpu::WindingDipole> mesh_dipoles = winding_dipoles(bvh, mesh, pieces_[m].thickness);
+    dipoles.insert(dipoles.end(), mesh_dipoles.begin(), mesh_dipoles.end());
+    // The first corner's w is the thickness of the triangle's piece (0: a
+    // sheet), the second's -1 where the piece is inside out, see mesh_topology.h.
     for (uint32_t t : bvh.order)
       for (int k = 0; k < 3; ++k)
-        corners.emplace_back(mesh.positions[mesh.indices[3 * t + k]], k == 0 ? piece_thickness_[m][t] : 1.0f);
+        corners.emplace_back(mesh.positions[mesh.indices[3 * t + k]],
+                             k == 0 ? pieces_[m].thickness[t] : k == 1 && pieces_[m].inside_out[t] ? -1.0f : 1.0f);
   }
   rays_.bottom_nodes = storage(context_, nodes);
   rays_.triangles = storage(context_, corners);
+  rays_.winding_dipoles = storage(context_, dipoles);
   mesh_tops_.clear();  // (their roots may have moved)
 }
 

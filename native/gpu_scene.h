@@ -8,6 +8,7 @@
 
 #include "bvh.h"
 #include "mesh_extent.h"
+#include "mesh_topology.h"
 #include "scene.h"
 #include "vk/resources.h"
 
@@ -31,13 +32,15 @@ class GpuScene {
     const vk::Buffer& instances;
     const vk::Buffer& bottom_nodes;
     const vk::Buffer& triangles;
+    const vk::Buffer& winding_dipoles;  // one per bottom-level node (winding_number.h)
   };
   struct RayStructures {
     vk::Buffer top_nodes;
     vk::Buffer instances;
     vk::Buffer bottom_nodes;
-    vk::Buffer triangles;  // three corners per triangle, in bottom-level leaf order; w of the first: piece thickness
-    RayTargets targets() const { return {top_nodes, instances, bottom_nodes, triangles}; }
+    vk::Buffer triangles;  // three corners per triangle, in bottom-level leaf order; w of the first: piece thickness, of the second: -1 for an inside-out piece
+    vk::Buffer winding_dipoles;
+    RayTargets targets() const { return {top_nodes, instances, bottom_nodes, triangles, winding_dipoles}; }
   };
 
   // A rigid motion: only the top level is rebuilt.
@@ -125,7 +128,7 @@ class GpuScene {
   std::vector<GpuMeshRange> meshes_;
   bool has_ray_structures_ = false;
   std::vector<Bvh> mesh_bvhs_;
-  std::vector<std::vector<float>> piece_thickness_;  // per mesh, per triangle (see mesh_topology.h)
+  std::vector<Pieces> pieces_;  // per mesh (see mesh_topology.h)
   std::vector<uint32_t> blas_roots_;
   RayStructures rays_;
   double bvh_build_ms_ = 0.0;

@@ -26,9 +26,20 @@ struct DisjointSets {
   void join(uint32_t a, uint32_t b) { parent[find(a)] = find(b); }
 };
 
+// Whether a piece bounds a volume. Boundary edges alone do not say: CAD
+// exports leave cracks and T-junctions along seams (edges that no other
+// triangle shares although the surface closes), and such a piece has no hole
+// at all. A hole shows in the vector area instead: it vanishes for every
+// closed surface, cracked or not, and for a sheet it is the sheet's area. A
+// hole up to 2% of the area (a missing face, say) still leaves an inside.
+bool encloses_volume(bool has_boundary, glm::dvec3 vector_area, double area) {
+  constexpr double kLargestHole = 0.02;
+  return area > 0.0 && (!has_boundary || glm::length(vector_area) <= kLargestHole * area);
+}
+
 }  // namespace
 
-std::vector<float> piece_thickness(const Mesh& mesh) {
+Pieces mesh_pieces(const Mesh& mesh) {
   const size_t triangles = mesh.triangle_count();
   // Vertices at the same position (to a millionth of the mesh's size, as
   // rounding leaves seams and poles) are one vertex.
@@ -63,25 +74,32 @@ std::vector<float> piece_thickness(const Mesh& mesh) {
         pieces.join(t, use.triangle);
     }
 
-  std::vector<uint8_t> open_piece(triangles, 0);
+  std::vector<uint8_t> has_boundary(triangles, 0);
   for (const auto& [key, use] : edges)
-    if (use.count == 1) open_piece[pieces.find(use.triangle)] = 1;
-  // Volume (divergence theorem, about the mesh's corner for precision) and area per piece.
+    if (use.count == 1) has_boundary[pieces.find(use.triangle)] = 1;
+  // Volume (divergence theorem, about the mesh's corner for precision), area
+  // and vector area (the sum of area-weighted normals) per piece.
   std::vector<double> volume(triangles, 0.0), area(triangles, 0.0);
+  std::vector<glm::dvec3> vector_area(triangles, glm::dvec3(0.0));
   for (uint32_t t = 0; t < triangles; ++t) {
     const glm::dvec3 a = glm::dvec3(mesh.positions[mesh.indices[3 * t]] - lo);
     const glm::dvec3 b = glm::dvec3(mesh.positions[mesh.indices[3 * t + 1]] - lo);
     const glm::dvec3 c = glm::dvec3(mesh.positions[mesh.indices[3 * t + 2]] - lo);
     const uint32_t piece = pieces.find(t);
+    const glm::dvec3 normal = 0.5 * glm::cross(b - a, c - a);
     volume[piece] += glm::dot(a, glm::cross(b, c)) / 6.0;
-    area[piece] += 0.5 * glm::length(glm::cross(b - a, c - a));
+    area[piece] += glm::length(normal);
+    vector_area[piece] += normal;
   }
-  std::vector<float> thickness(triangles);
+  Pieces result{std::vector<float>(triangles), std::vector<uint8_t>(triangles)};
   for (uint32_t t = 0; t < triangles; ++t) {
     const uint32_t piece = pieces.find(t);
-    thickness[t] = open_piece[piece] || area[piece] <= 0.0 ? 0.0f : float(2.0 * std::abs(volume[piece]) / area[piece]);
+    result.thickness[t] = encloses_volume(has_boundary[piece] != 0, vector_area[piece], area[piece])
+                              ? float(2.0 * std::abs(volume[piece]) / area[piece])
+                              : 0.0f;
+    result.inside_out[t] = volume[piece] < 0.0 ? 1 : 0;
   }
-  return thickness;
+  return result;
 }
 
 }  // namespace rtsdf

@@ -1,8 +1,8 @@
 #pragma once
 // How thick the piece is that each triangle belongs to. The fine SDF takes
-// its sign from how many rays meet back faces, which only means "inside" for
-// a closed surface: behind a one-sided sheet it would mark a whole band as
-// inside. And a closed piece thinner than a voxel has no inside on the grid
+// its sign from which faces rays meet, or from the winding number, and both
+// only mean "inside" for a surface that bounds a volume: behind a one-sided
+// sheet they would mark a whole band as inside. And a closed piece thinner than a voxel has no inside on the grid
 // at all, so shadow marches through it never see a negative value. Both are
 // better read as thin slabs (see shaders/fine_trace.comp).
 #include <cstdint>
@@ -12,12 +12,22 @@
 
 namespace rtsdf {
 
-// One value per triangle of `mesh`: the mean thickness 2 V / A of the
+// Two values per triangle of `mesh`. The mean thickness 2 V / A of the
 // triangle's connected piece (triangles joined through shared edges,
 // vertices matched by position to a millionth of the mesh's size, so a
 // triangle soup as STL stores it works too), in the mesh's units: a slab of
-// thickness t gives t, a sphere of radius r gives 2r/3. 0 for an open piece
-// (an edge used by only one triangle).
-std::vector<float> piece_thickness(const Mesh& mesh);
+// thickness t gives t, a sphere of radius r gives 2r/3. 0 for an open piece:
+// a sheet, or a surface with a hole larger than 2% of its area (edges used by
+// only one triangle along cracks and T-junctions make no hole: the piece's
+// vector area tells, see mesh_topology.cpp).
+//
+// And whether that piece is turned inside out: its normals point in (a
+// negative volume), as a part mirrored in a CAD export can be. Its inside is
+// where rays meet its front faces.
+struct Pieces {
+  std::vector<float> thickness;
+  std::vector<uint8_t> inside_out;
+};
+Pieces mesh_pieces(const Mesh& mesh);
 
 }  // namespace rtsdf

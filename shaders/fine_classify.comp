@@ -14,7 +14,7 @@
 layout(local_size_x = RTSDF_GROUP_X, local_size_y = RTSDF_GROUP_Y, local_size_z = RTSDF_GROUP_Z) in;
 layout(binding = 0, r32f) uniform readonly image3D coarse;
 layout(binding = 1, r32f) uniform writeonly image3D fine;
-layout(binding = 2, rgba32f) uniform writeonly image3D hit_counts;  // see fine_trace.comp
+layout(binding = 2, rgba32f) uniform writeonly image3D history;  // see fine_trace.comp
 layout(std430, binding = 3) buffer TraceList { uint trace_count; uint trace_texels[]; };
 layout(push_constant) uniform Push { FinePush pc; };
 
@@ -41,11 +41,11 @@ void main() {
     } else if (pc.coarse_dims.w != 0) {
       // First frame, not traced yet: start from the same upper bound a traced texel starts from.
       imageStore(fine, p, vec4(max(c + pc.params.z, 0.0)));
-      imageStore(hit_counts, p, vec4(0.0, 0.0, max(c + pc.params.z, 0.0), pc.params.w));
+      imageStore(history, p, vec4(0.0, 0.0, max(c + pc.params.z, 0.0), pc.params.w));
     }
   } else {
     float far_field = c + pc.coarse_beta.x;
     imageStore(fine, p, vec4(far_field));
-    imageStore(hit_counts, p, vec4(0.0, 0.0, far_field, pc.params.w));
+    imageStore(history, p, vec4(0.0, 0.0, far_field, pc.params.w));
   }
 }

@@ -4,18 +4,22 @@
 // Fibonacci set turned by a new rotation every frame) and updates
 //   f_t = min(alpha * f_{t-1} + (1 - alpha) * (c_t + bias), r_t)
 // with r_t the smallest distance from the texel to a triangle a ray hit. The
-// texel is inside (negative) when back faces outnumber front faces (see the
-// sign below).
-// Back faces mean "inside" only on closed surfaces: behind a one-sided sheet
-// they would mark the whole band as inside, and shadows would spread from it;
-// and a closed piece thinner than a voxel has no texel inside it, so marches
-// through it never see a negative value (its shadow would be half lit).
-// Hits on such thin pieces are not counted; instead the distance g to their
-// slabs is kept apart (updated like f) and the stored value is min(+-f, g).
-// A closed thin piece reads as a slab half a voxel thick on either side, an
-// open one (no thickness at all) a whole voxel: a march crossing it must see
-// a value well below zero to be blocked, and each half voxel of slab widens
-// the piece's shadow by as much.
+// texel is inside (negative) where the generalized winding number of the
+// meshes' volumes says so (winding_number.glsl.h): it holds on cracked,
+// overlapping and inside-out parts, and it depends on the geometry alone, so
+// a moved object leaves no inside behind. Where every ray that met a volume
+// met it from the same side (its back faces: inside; front faces: outside;
+// an inside-out piece's the other way round), the winding number can only
+// agree, and that vote is taken as it is: summing solid angles costs as much
+// as all the rays, and only texels near overlapping or cracked parts need it.
+// Sheets have no inside, and a closed piece thinner than a voxel has no
+// texel inside it, so marches through it would never see a negative value
+// (its shadow would be half lit). Such thin pieces are kept apart: the
+// distance g to their slabs (updated like f) and the stored value is
+// min(+-f, g). A closed thin piece reads as a slab half a voxel thick on
+// either side, a sheet (no thickness at all) a whole voxel: a march crossing
+// it must see a value well below zero to be blocked, and each half voxel of
+// slab widens the piece's shadow by as much.
 #include "shared.h"
 #include "seed_common.glsl.h"  // texel indices are packed like seeds
 
@@ -23,8 +27,10 @@ layout(local_size_x = RTSDF_TRACE_GROUP) in;
 #include "ray_trace.glsl.h"
 layout(binding = 4, r32f) uniform readonly image3D coarse;
 layout(binding = 5, r32f) uniform image3D fine;
-layout(binding = 6, rgba32f) uniform image3D hit_counts;  // front and back counts, f, g
+layout(binding = 6, rgba32f) uniform image3D history;  // x: 1 inside, y unused, z: f, w: g
 layout(std430, binding = 7) readonly buffer TraceList { uint trace_count; uint trace_texels[]; };
+#define RTSDF_WINDING_BINDING 8
+#include "winding_number.glsl.h"
 layout(push_constant) uniform Push { FinePush pc; };
 
 #include "coarse_sample.glsl.h"
@@ -44,7 +50,7 @@ void main() {
   const float golden_angle = 2.39996323;
   // nearest_slab: distance to the nearest thin piece's slab (negative inside it).
   float nearest = pc.params.w, nearest_slab = pc.params.w;
-  vec2 hits = vec2(0.0);  // front, back (closed surfaces only)
+  vec2 hits = vec2(0.0);  // from outside, from inside (volumes at least a voxel thick)
   for (int i = 0; i < rays; ++i) {
     float z = 1.0 - (2.0 * float(i) + 1.0) / float(rays);
     float r = sqrt(max(0.0, 1.0 - z * z));
@@ -62,24 +68,18 @@ void main() {
       if (thickness < pc.fine_grid.w)
         nearest_slab = min(nearest_slab, distance - slab_half_thickness(thickness));
       else
-        hits += front ? vec2(1.0, 0.0) : vec2(0.0, 1.0);
+        hits += front != piece_inside_out(triangle) ? vec2(1.0, 0.0) : vec2(0.0, 1.0);
     }
   }
 
   bool first_frame = pc.coarse_dims.w != 0;
   float alpha = pc.params.x;
   float target = max(c + pc.params.z, 0.0);  // params.z = 0: the paper's c_t
-  vec4 history = first_frame ? vec4(0.0, 0.0, target, pc.params.w) : imageLoad(hit_counts, p);
-  // The sign. From outside a closed surface a ray meets a front face first,
-  // from inside a back face: on clean meshes every frame's hits agree, and
-  // they are taken as they are (no rays met one: outside). Remembered counts
-  // would keep a moved object's inside where it was for many frames - its
-  // ghost. Only where hits disagree (overlapping or self-intersecting
-  // pieces) does the decayed history vote along.
+  vec4 previous = first_frame ? vec4(0.0, 0.0, target, pc.params.w) : imageLoad(history, p);
   bool unanimous = hits.x == 0.0 || hits.y == 0.0;
-  vec2 counts = (unanimous ? vec2(0.0) : alpha * history.xy) + hits;
-  float f = min(alpha * history.z + (1.0 - alpha) * target, nearest);
-  float g = min(alpha * history.w + (1.0 - alpha) * pc.params.w, nearest_slab);
-  imageStore(hit_counts, p, vec4(counts, f, g));
-  imageStore(fine, p, vec4(min(counts.y > counts.x ? -f : f, g)));
+  bool inside = unanimous ? hits.y > 0.0 : inside_scene(world);
+  float f = min(alpha * previous.z + (1.0 - alpha) * target, nearest);
+  float g = min(alpha * previous.w + (1.0 - alpha) * pc.params.w, nearest_slab);
+  imageStore(history, p, vec4(inside ? 1.0 : 0.0, 0.0, f, g));
+  imageStore(fine, p, vec4(min(inside ? -f : f, g)));
 }

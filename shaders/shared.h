@@ -57,6 +57,15 @@ struct BvhNode {
   uint pad1;
 };
 
+// What a bottom-level BVH node's triangles look like from afar, for fast
+// winding numbers (Barill et al. 2018, to first order): their area-weighted
+// normals summed, placed at their area-weighted centre. Only triangles of
+// pieces that bound a volume count (see native/winding_number.h).
+struct WindingDipole {
+  vec4 centre;  // xyz = area-weighted centre; w = radius of the ball about it that holds the triangles
+  vec4 normal;  // xyz = sum of the triangles' area vectors (half their edges' cross products); w = their area
+};
+
 // A placed mesh, as the ray tracer sees it.
 struct RayInstance {
   mat4 world_to_object;
@@ -220,6 +229,7 @@ struct EvsmBlurPush {
 
 #ifdef __cplusplus
 static_assert(sizeof(BvhNode) == 48, "BvhNode layout");
+static_assert(sizeof(WindingDipole) == 32, "WindingDipole layout");
 static_assert(sizeof(GpuLight) == 64, "GpuLight layout");
 static_assert(sizeof(FrameData) == 112 + 32 * kMaxSkyBlockers, "FrameData layout");
 static_assert(sizeof(GBufferPush) == 96, "GBufferPush layout");

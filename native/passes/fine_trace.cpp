@@ -45,11 +45,11 @@ FineTracePass::FineTracePass(const vk::Context& context)
                 sizeof(gpu::FinePush)),
       prepare_dispatch_(context, RTSDF_SPIRV(spirv_fine_dispatch_comp), {kBuffer, kBuffer}, 0),
       trace_(context, RTSDF_SPIRV(spirv_fine_trace_comp),
-             {kBuffer, kBuffer, kBuffer, kBuffer, kImage, kImage, kImage, kBuffer}, sizeof(gpu::FinePush)) {}
+             {kBuffer, kBuffer, kBuffer, kBuffer, kImage, kImage, kImage, kBuffer, kBuffer}, sizeof(gpu::FinePush)) {}
 
 void FineTracePass::record(VkCommandBuffer cmd, const GpuScene::RayTargets& scene, const GridSpec& coarse_grid,
                            const vk::Image& coarse, const GridSpec& fine_grid, const vk::Image& fine,
-                           const vk::Image& hit_counts, const vk::Buffer& trace_list, const vk::Buffer& dispatch,
+                           const vk::Image& history, const vk::Buffer& trace_list, const vk::Buffer& dispatch,
                            const FineTraceSettings& settings, float beta_world, uint32_t frame, bool first_frame,
                            const Bounds* changed, vk::GpuTimer* timer) const {
   const float coarse_voxel = coarse_grid.voxel_size;
@@ -90,7 +90,7 @@ void FineTracePass::record(VkCommandBuffer cmd, const GpuScene::RayTargets& scen
   compute_barrier(cmd);
   classify_.bind(cmd);
   classify_.push_descriptors(cmd, {vk::Resource::storage_image(coarse), vk::Resource::storage_image(fine),
-                                   vk::Resource::storage_image(hit_counts), vk::Resource::storage_buffer(trace_list)});
+                                   vk::Resource::storage_image(history), vk::Resource::storage_buffer(trace_list)});
   classify_.push_constants(cmd, push);
   vk::dispatch_grid(cmd, fine_grid.dims);
   if (timer) timer->mark(cmd, "fine classify");
@@ -107,8 +107,9 @@ void FineTracePass::record(VkCommandBuffer cmd, const GpuScene::RayTargets& scen
                                 vk::Resource::storage_buffer(scene.instances),
                                 vk::Resource::storage_buffer(scene.bottom_nodes),
                                 vk::Resource::storage_buffer(scene.triangles), vk::Resource::storage_image(coarse),
-                                vk::Resource::storage_image(fine), vk::Resource::storage_image(hit_counts),
-                                vk::Resource::storage_buffer(trace_list)});
+                                vk::Resource::storage_image(fine), vk::Resource::storage_image(history),
+                                vk::Resource::storage_buffer(trace_list),
+                                vk::Resource::storage_buffer(scene.winding_dipoles)});
   trace_.push_constants(cmd, push);
   vkCmdDispatchIndirect(cmd, dispatch.handle(), 0);
   if (timer) timer->mark(cmd, "fine trace");

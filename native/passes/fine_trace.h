@@ -39,7 +39,7 @@ class FineTracePass {
   // world region where casters changed; only band texels whose rays can reach
   // it are traced, on their turn (ignored on a first frame and by trace_everywhere).
   void record(VkCommandBuffer cmd, const GpuScene::RayTargets& scene, const GridSpec& coarse_grid, const vk::Image& coarse,
-              const GridSpec& fine_grid, const vk::Image& fine, const vk::Image& hit_counts,
+              const GridSpec& fine_grid, const vk::Image& fine, const vk::Image& history,
               const vk::Buffer& trace_list, const vk::Buffer& dispatch, const FineTraceSettings& settings,
               float beta_world, uint32_t frame, bool first_frame, const Bounds* changed, vk::GpuTimer* timer) const;
 

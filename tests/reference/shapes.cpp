@@ -1,6 +1,8 @@
 #include "shapes.h"
 
 #include <cmath>
+#include <utility>
+#include <vector>
 
 namespace rtsdf::reference {
 
@@ -33,6 +35,23 @@ Mesh box(glm::vec3 lo, glm::vec3 hi) {
   // Outward-facing (counter-clockwise seen from outside).
   mesh.indices = {0, 2, 1, 1, 2, 3, 4, 5, 6, 5, 7, 6, 0, 1, 4, 1, 5, 4,
                   2, 6, 3, 3, 6, 7, 0, 4, 2, 2, 4, 6, 1, 3, 5, 3, 7, 5};
+  return mesh;
+}
+
+Mesh cracked_box(glm::vec3 lo, glm::vec3 hi) {
+  Mesh mesh = box(lo, hi);
+  mesh.name = "cracked box";
+  // The top face (z = hi: corners 4, 5, 6, 7) is remade around vertex 8, the
+  // middle of its edge 4-5, which the side face y = lo still uses whole.
+  mesh.positions.emplace_back(0.5f * (lo.x + hi.x), lo.y, hi.z);
+  const std::vector<uint32_t> top = {4, 8, 6, 8, 5, 7, 8, 7, 6};
+  mesh.indices.erase(mesh.indices.begin() + 6, mesh.indices.begin() + 12);
+  mesh.indices.insert(mesh.indices.end(), top.begin(), top.end());
+  return mesh;
+}
+
+Mesh inside_out(Mesh mesh) {
+  for (size_t t = 0; t + 2 < mesh.indices.size(); t += 3) std::swap(mesh.indices[t + 1], mesh.indices[t + 2]);
   return mesh;
 }
 

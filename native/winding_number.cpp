@@ -1,0 +1,72 @@
+#include "winding_number.h"
+
+#include <cmath>
+
+namespace rtsdf {
+
+std::vector<gpu::WindingDipole> winding_dipoles(const Bvh& bvh, const Mesh& mesh,
+                                                const std::vector<float>& piece_thickness) {
+  struct Sum {
+    glm::dvec3 normal{0.0};
+    glm::dvec3 weighted_centre{0.0};  // area * centre, summed
+    double area = 0.0;
+  };
+  std::vector<Sum> sums(bvh.nodes.size());
+  std::vector<gpu::WindingDipole> dipoles(bvh.nodes.size());
+  auto corner = [&](uint32_t triangle, int k) { return glm::dvec3(mesh.positions[mesh.indices[3 * triangle + k]]); };
+  // Children follow their parent in the node array: backwards, every child is done before its parent.
+  for (size_t n = bvh.nodes.size(); n-- > 0;) {
+    const BvhBuildNode& node = bvh.nodes[n];
+    Sum& sum = sums[n];
+    double radius = 0.0;
+    if (node.count > 0) {
+      for (uint32_t i = node.first; i < node.first + node.count; ++i) {
+        const uint32_t t = bvh.order[i];
+        if (!(piece_thickness[t] > 0.0f)) continue;
+        const glm::dvec3 area_vector = 0.5 * glm::cross(corner(t, 1) - corner(t, 0), corner(t, 2) - corner(t, 0));
+        const double area = glm::length(area_vector);
+        sum.normal += area_vector;
+        sum.weighted_centre += area * (corner(t, 0) + corner(t, 1) + corner(t, 2)) / 3.0;
+        sum.area += area;
+      }
+      const glm::dvec3 centre = sum.area > 0.0 ? sum.weighted_centre / sum.area : glm::dvec3(0.0);
+      for (uint32_t i = node.first; i < node.first + node.count; ++i) {
+        const uint32_t t = bvh.order[i];
+        if (piece_thickness[t] > 0.0f)
+          for (int k = 0; k < 3; ++k) radius = std::max(radius, glm::length(corner(t, k) - centre));
+      }
+    } else {
+      const Sum& a = sums[node.first];
+      const Sum& b = sums[node.first + 1];
+      sum.normal = a.normal + b.normal;
+      sum.weighted_centre = a.weighted_centre + b.weighted_centre;
+      sum.area = a.area + b.area;
+      const glm::dvec3 centre = sum.area > 0.0 ? sum.weighted_centre / sum.area : glm::dvec3(0.0);
+      for (uint32_t child : {node.first, node.first + 1})
+        if (sums[child].area > 0.0)
+          radius = std::max(radius, glm::length(glm::dvec3(dipoles[child].centre) - centre) + dipoles[child].centre.w);
+    }
+    const glm::dvec3 centre = sum.area > 0.0 ? sum.weighted_centre / sum.area : glm::dvec3(0.0);
+    // (radius rounded up, so that float centres still lie within it)
+    dipoles[n].centre = glm::vec4(centre, float(radius * (1.0 + 1e-6)));
+    dipoles[n].normal = glm::vec4(sum.normal, float(sum.area));
+  }
+  return dipoles;
+}
+
+double winding_number(const Mesh& mesh, const std::vector<float>& piece_thickness, glm::vec3 p) {
+  double solid_angle = 0.0;
+  for (size_t t = 0; t < mesh.triangle_count(); ++t) {
+    if (!(piece_thickness[t] > 0.0f)) continue;
+    // Van Oosterom and Strackee's formula for the triangle's signed solid angle.
+    const glm::dvec3 a = glm::dvec3(mesh.positions[mesh.indices[3 * t]] - p);
+    const glm::dvec3 b = glm::dvec3(mesh.positions[mesh.indices[3 * t + 1]] - p);
+    const glm::dvec3 c = glm::dvec3(mesh.positions[mesh.indices[3 * t + 2]] - p);
+    const double la = glm::length(a), lb = glm::length(b), lc = glm::length(c);
+    solid_angle += 2.0 * std::atan2(glm::dot(a, glm::cross(b, c)),
+                                    la * lb * lc + glm::dot(a, b) * lc + glm::dot(b, c) * la + glm::dot(c, a) * lb);
+  }
+  return solid_angle / (4.0 * M_PI);
+}
+
+}  // namespace rtsdf
