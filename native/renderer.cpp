@@ -64,7 +64,8 @@ constexpr MethodName kMethodNames[] = {{ShadowMethod::Rtsdf, "rtsdf"},
                                        {ShadowMethod::RtsdfWorld, "rtsdf_world"},
                                        {ShadowMethod::RtOnly, "rt_only"},
                                        {ShadowMethod::JfaOnly, "jfa_only"},
-                                       {ShadowMethod::CsmEvsm, "csm_evsm"}};
+                                       {ShadowMethod::CsmEvsm, "csm_evsm"},
+                                       {ShadowMethod::RayTraced, "raytraced"}};
 
 // The whole scene's fine SDF (world space).
 bool uses_fine_sdf(ShadowMethod method) { return method == ShadowMethod::RtsdfWorld || method == ShadowMethod::RtOnly; }
@@ -180,7 +181,8 @@ void Renderer::rebuild_sdfs(GpuScene& scene, const RenderSettings& settings) {
   field_voxels_.assign(scene.instances().size(), 0.0f);
   const ShadowMethod method = settings.shadow_method;
   // Another method's fields hold memory this one does not read.
-  const bool world_field = has_casters_ && method != ShadowMethod::Rtsdf && method != ShadowMethod::CsmEvsm;
+  const bool world_field = has_casters_ && method != ShadowMethod::Rtsdf && method != ShadowMethod::CsmEvsm &&
+                           method != ShadowMethod::RayTraced;
   if (method != ShadowMethod::Rtsdf) object_fields_.clear();
   if (!world_field) {
     world_field_.release();
@@ -188,12 +190,13 @@ void Renderer::rebuild_sdfs(GpuScene& scene, const RenderSettings& settings) {
     coarse_.release();
   }
   if (!uses_fine_sdf(method)) fine_.release();
-  if (!has_casters_ || method == ShadowMethod::CsmEvsm) {
+  if (!has_casters_ || method == ShadowMethod::CsmEvsm || method == ShadowMethod::RayTraced) {
     // Nothing to march (csm_evsm needs no SDF): its casters are still told
     // apart from receivers (they look themselves up off their surface).
     march_.place({});
     if (method == ShadowMethod::CsmEvsm)
       for (uint32_t i : scene.shadow_casters()) field_voxels_[i] = 1.0f;
+    if (method == ShadowMethod::RayTraced && has_casters_) scene.ray_structures();  // (built now, not in a frame)
     return;
   }
   if (method == ShadowMethod::Rtsdf) {
@@ -318,6 +321,10 @@ void Renderer::begin(GpuScene& scene, const Camera& camera, const std::vector<Li
       push_.evsm = glm::vec4(ShadowMapPass::kPositiveExponent, ShadowMapPass::kNegativeExponent,
                              ShadowMapPass::kLightBleedingReduction, 0.0f);
       break;
+    case ShadowMethod::RayTraced:
+      push_.visibility.x = gpu::kVisibilityRayTraced;
+      push_.surface.x = 0.0f;  // (rays start off the surface on their own)
+      break;
   }
   shadow_map_renders_ = 0;
   frame_ = 0;
@@ -363,6 +370,8 @@ void Renderer::add_frame() {
   push_.image = glm::ivec4(width_, height_, light_count_, frame_);
   push_.march.w = 1.0f / float(frame_ + 1);
   const ShadowMapPass* shadow_maps = settings_.shadow_method == ShadowMethod::CsmEvsm ? shadow_maps_.get() : nullptr;
+  const GpuScene::RayStructures* rays =
+      settings_.shadow_method == ShadowMethod::RayTraced && has_casters_ ? &scene_->ray_structures() : nullptr;
   context_.submit_and_wait([&](VkCommandBuffer cmd) {
     shading_timer_.begin(cmd);
     gbuffer_.record(cmd, *scene_, frame_buffer_, field_voxels_);
@@ -370,7 +379,7 @@ void Renderer::add_frame() {
     const bool march_sky = push_.visibility.x != gpu::kVisibilityShadowMaps &&
                            glm::dot(glm::vec3(frame_data_.ambient), glm::vec3(frame_data_.ambient)) > 0.0f;
     const bool share_lights = settings_.quick_first_frame && frame_ == 0;
-    shade_.record(cmd, gbuffer_, march_, shadow_maps, light_buffer_, frame_buffer_, accum_color_, accum_passes_,
+    shade_.record(cmd, gbuffer_, march_, shadow_maps, rays, light_buffer_, frame_buffer_, accum_color_, accum_passes_,
                   march_sky, share_lights, push_, &shading_timer_);
     shading_timer_.mark(cmd, "shade");
   });

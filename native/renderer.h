@@ -36,7 +36,7 @@ inline FineTraceSettings shading_fine_settings() {
 }
 
 // Where shadows come from. Settings and Python name them rtsdf, rtsdf_world,
-// rt_only, jfa_only and csm_evsm.
+// rt_only, jfa_only, csm_evsm and raytraced.
 enum class ShadowMethod {
   Rtsdf,       // the paper's fields (coarse by jump flooding, fine ray traced in a band around surfaces), one per
                // mesh in its own space, shared by its instances (object_fields.h)
@@ -44,6 +44,9 @@ enum class ShadowMethod {
   RtOnly,   // the whole scene's fine SDF ray traced at every texel of its grid (no band), every frame
   JfaOnly,  // no fine SDF: the march reads the coarse (jump-flooded, unsigned) SDF
   CsmEvsm,  // no SDF: cascaded shadow maps filtered as EVSM (the paper's comparison)
+  RayTraced,  // no SDF: a ray through the BVHs towards a random point of each light (and two over the sky's
+              // hemisphere) per frame, averaging to the exact visibility over the samples: the reference that
+              // tells the fields' error from the shading's
 };
 // Throws rtsdf::Error for an unknown name.
 ShadowMethod parse_shadow_method(const std::string& name);

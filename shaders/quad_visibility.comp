@@ -28,13 +28,13 @@ void main() {
   float receiver_voxel = imageLoad(g_albedo, pixel).a;
   float jitter = hash(uvec3(pixel, uint(pc.image.w)));
   vec3 origin = march_origin(p, n, receiver_voxel);
-  float sky = wants_sky() ? sky_visibility(origin, n, receiver_voxel, jitter, pixel) : 1.0;
+  float sky = wants_sky() ? world_light_visibility(origin, n, receiver_voxel, jitter, pixel) : 1.0;
   imageStore(quad_samples, quad, vec4(n, sky));
   if (kShadeStage != kShadeShared) return;
   for (int l = 0; l < pc.image.z; ++l) {
-    LightPath path = light_path(lights[l], p, origin);
+    LightPath path = light_path(l, p, origin);
     float v = -1.0;
-    if (faces_light(path, n)) v = march_light(path, origin, receiver_voxel, jitter, pixel);
+    if (faces_light(path, n)) v = march_light(path, origin, n, receiver_voxel, jitter, pixel);
     quad_lights[l * quad_count() + quad_index] = v;
   }
 }

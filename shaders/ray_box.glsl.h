@@ -1,3 +1,5 @@
+#ifndef RTSDF_RAY_BOX_GLSL_H
+#define RTSDF_RAY_BOX_GLSL_H
 // Where a ray (origin + t dir, inv_dir = 1 / dir) is inside an axis-aligned
 // box: (t entering, t leaving); it misses the box when x > y.
 vec2 ray_box_span(vec3 origin, vec3 inv_dir, vec3 lo, vec3 hi) {
@@ -8,3 +10,4 @@ vec2 ray_box_span(vec3 origin, vec3 inv_dir, vec3 lo, vec3 hi) {
 
 // 1 / dir with zero components replaced by a huge value of the same use.
 vec3 safe_inverse(vec3 dir) { return 1.0 / mix(dir, vec3(1e-20), equal(dir, vec3(0.0))); }
+#endif

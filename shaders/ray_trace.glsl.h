@@ -1,9 +1,13 @@
-// Closest-hit ray tracing through the two-level BVH (bindings 0-3), with
-// whether the hit triangle faces the ray (front) or turns its back to it.
-layout(std430, binding = 0) readonly buffer TopNodes { BvhNode top_nodes[]; };
-layout(std430, binding = 1) readonly buffer Instances { RayInstance instances[]; };
-layout(std430, binding = 2) readonly buffer BottomNodes { BvhNode bottom_nodes[]; };
-layout(std430, binding = 3) readonly buffer Triangles { vec4 triangle_corners[]; };  // 3 per triangle
+// Closest-hit ray tracing through the two-level BVH (bindings
+// RTSDF_RAY_BINDING to RTSDF_RAY_BINDING + 3, from 0 unless the shader says),
+// with whether the hit triangle faces the ray (front) or turns its back to it.
+#ifndef RTSDF_RAY_BINDING
+#define RTSDF_RAY_BINDING 0
+#endif
+layout(std430, binding = RTSDF_RAY_BINDING) readonly buffer TopNodes { BvhNode top_nodes[]; };
+layout(std430, binding = RTSDF_RAY_BINDING + 1) readonly buffer Instances { RayInstance instances[]; };
+layout(std430, binding = RTSDF_RAY_BINDING + 2) readonly buffer BottomNodes { BvhNode bottom_nodes[]; };
+layout(std430, binding = RTSDF_RAY_BINDING + 3) readonly buffer Triangles { vec4 triangle_corners[]; };  // 3 per triangle
 
 #define RTSDF_STACK 48
 

@@ -16,6 +16,28 @@ void tangent_frame(vec3 n, out vec3 t, out vec3 b) {
   b = cross(n, t);
 }
 
+// A direction towards this frame's point of a light's disk (tan_radius seen
+// along dir): each pixel's points over frames follow the R2 sequence from a
+// random start (`start`, 0 to 1), evenly spread over the disk.
+vec3 disk_direction(vec3 dir, float tan_radius, vec2 start) {
+  vec3 t, b;
+  tangent_frame(dir, t, b);
+  vec2 u = fract(start + float(pc.image.w) * vec2(0.7548776662, 0.5698402910));
+  float r = tan_radius * sqrt(u.x), phi = 6.2831853 * u.y;
+  return normalize(dir + r * (cos(phi) * t + sin(phi) * b));
+}
+
+// This frame's k-th direction of the world light at a pixel: cosine-distributed
+// over the hemisphere around n, new every frame.
+vec3 sky_direction(vec3 n, ivec2 pixel, uint k) {
+  vec3 t, b;
+  tangent_frame(n, t, b);
+  float u1 = hash(uvec3(pixel, uint(pc.image.w) * 4u + 2u * k + 1u));
+  float u2 = hash(uvec3(pixel.yx, uint(pc.image.w) * 4u + 2u * k + 2u));
+  float r = sqrt(u1), phi = 6.2831853 * u2;
+  return normalize(t * (r * cos(phi)) + b * (r * sin(phi)) + n * sqrt(max(1.0 - u1, 0.0)));
+}
+
 // Share of a disk (the light) left visible by a straight occluder edge at
 // signed distance r (in disk radii; r < 0: the edge covers the centre).
 float disk_visible(float r) {
@@ -225,13 +247,7 @@ float light_visibility(vec3 origin, vec3 dir, float t_min, float t_max, float ta
     bool crossed_sheet;
     v = visibility(origin, march_dir, t_min, t_max, cone, jitter, escape, vec3(0.0), false, crossed_sheet);
     if (!crossed_sheet || tan_radius <= 0.0) break;
-    // (the pixel's points over frames follow the R2 sequence from a random start: evenly spread over the disk)
-    vec3 t, b;
-    tangent_frame(dir, t, b);
-    vec2 start = vec2(hash(uvec3(pixel, 0x1157u)), hash(uvec3(pixel.yx, 0x1158u)));
-    vec2 u = fract(start + float(pc.image.w) * vec2(0.7548776662, 0.5698402910));
-    float r = tan_radius * sqrt(u.x), phi = 6.2831853 * u.y;
-    march_dir = normalize(dir + r * (cos(phi) * t + sin(phi) * b));
+    march_dir = disk_direction(dir, tan_radius, vec2(hash(uvec3(pixel, 0x1157u)), hash(uvec3(pixel.yx, 0x1158u))));
     cone = 1e-3 * tan_radius;
   }
   return v;
@@ -261,14 +277,9 @@ bool enters_sky_blocker(vec3 p, vec3 dir) {
 // receiver_voxel: the world voxel of the field holding the receiver (0: in none).
 float sky_visibility(vec3 origin, vec3 n, float receiver_voxel, float jitter, ivec2 pixel) {
   bool in_sdf = receiver_voxel > 0.0;
-  vec3 t, b;
-  tangent_frame(n, t, b);
   float sum = 0.0;
   for (uint k = 0u; k < 2u; ++k) {
-    float u1 = hash(uvec3(pixel, uint(pc.image.w) * 4u + 2u * k + 1u));
-    float u2 = hash(uvec3(pixel.yx, uint(pc.image.w) * 4u + 2u * k + 2u));
-    float r = sqrt(u1), phi = 6.2831853 * u2;
-    vec3 dir = normalize(t * (r * cos(phi)) + b * (r * sin(phi)) + n * sqrt(max(1.0 - u1, 0.0)));
+    vec3 dir = sky_direction(n, pixel, k);
     if (enters_sky_blocker(origin, dir)) continue;
     bool crossed_sheet;  // (never with axis_blocks)
     sum += visibility(origin, dir, pc.march.z * receiver_voxel, 1e10, 0.35, jitter, 2.0 * receiver_voxel,

@@ -10,7 +10,9 @@
 // triangulation between consecutive samples (Claybook, GDC 2018): the signed
 // fine SDF, or for the jfa_only baseline the unsigned coarse one, bound to
 // the same bindings; or, for the csm_evsm baseline, looks up EVSM shadow
-// maps. Only visibility differs between the methods. The fields
+// maps; or, for raytraced, traces rays through the scene's BVHs towards a
+// random point of each light every frame, which average over accumulation
+// frames to the exact share. Only visibility differs between the methods. The fields
 // (sdf_fields.glsl.h) are many in the object-space design, one per placed
 // mesh, and one for the whole-scene methods. The pipeline's kShadeStage
 // says which pixels it shades and whether it marches (shade_inputs.glsl.h).
@@ -147,11 +149,11 @@ void main() {
         list_for_fill(pixel);
         return;
       }
-      if (sky < 0.0) sky = sky_visibility(origin, n, receiver_voxel, jitter, pixel);
+      if (sky < 0.0) sky = world_light_visibility(origin, n, receiver_voxel, jitter, pixel);
     }
     color = albedo * frame.ambient.rgb * sky;
     for (int l = 0; l < pc.image.z; ++l) {
-      LightPath path = light_path(lights[l], p, origin);
+      LightPath path = light_path(l, p, origin);
       if (!faces_light(path, n)) continue;
       float v;
       if (kShadeStage == kShadeShared) {
@@ -163,7 +165,7 @@ void main() {
       } else if (kVisibilityMode == kVisibilityShadowMaps) {
         v = shadow_map_visibility(l, p, n, in_sdf);
       } else {
-        v = march_light(path, origin, receiver_voxel, jitter, pixel);
+        v = march_light(path, origin, n, receiver_voxel, jitter, pixel);
       }
       vec3 direct = path.irradiance * dot(n, path.dir);
       color += albedo * direct * v;

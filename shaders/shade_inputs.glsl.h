@@ -16,6 +16,8 @@ layout(constant_id = 0) const uint kVisibilityMode = kVisibilitySignedSdf;
 layout(constant_id = 1) const uint kShadeStage = kShadeFull;
 #include "sdf_fields.glsl.h"  // bindings 3, 11: the fields marched
 #include "sdf_march.glsl.h"
+#define RTSDF_RAY_BINDING 15     // bindings 15 to 18: the scene's BVHs (raytraced)
+#include "ray_trace.glsl.h"
 // Visibility at a quarter of the pixels. The world light's is low-frequency:
 // quad_visibility.comp marches it for one pixel of each 2x2 quad (which one
 // changes every frame, so that accumulation covers all four), and
@@ -77,6 +79,7 @@ float same_surface_distance(vec3 p) {
 // A light as a point p (on a surface) sees it, and the march towards it
 // from origin (p's march start).
 struct LightPath {
+  int light;        // its index in `lights`
   vec3 dir;         // towards the light from p, for the shading
   vec3 march_dir;   // towards it from origin
   vec3 irradiance;  // at p, before the cosine
@@ -84,8 +87,10 @@ struct LightPath {
   float tan_radius; // tangent of the light's angular radius seen from origin (0: hard shadows)
 };
 
-LightPath light_path(GpuLight light, vec3 p, vec3 origin) {
+LightPath light_path(int index, vec3 p, vec3 origin) {
+  GpuLight light = lights[index];
   LightPath path;
+  path.light = index;
   uint type = uint(light.position.w);
   path.irradiance = light.radiance.rgb;
   if (type == kLightSun) {
@@ -115,10 +120,42 @@ LightPath light_path(GpuLight light, vec3 p, vec3 origin) {
 // Whether a light reaches p's side of its surface at all (no march needed where not).
 bool faces_light(LightPath path, vec3 n) { return dot(n, path.dir) > 0.0 && dot(path.irradiance, path.irradiance) > 0.0; }
 
+// raytraced: whether a ray from p (on a surface of normal n) along dir meets
+// no triangle within t_max. It starts a hair off the surface (a ten
+// thousandth of its distance from the camera), so that the surface does not
+// hide itself.
+bool ray_reaches(vec3 p, vec3 n, vec3 dir, float t_max) {
+  vec3 start = p + n * (0.2 * same_surface_distance(p));
+  bool front;
+  uint triangle, instance;
+  return trace_scene(start, dir, t_max, front, triangle, instance) >= t_max;
+}
+
 // The share of a light reaching a receiver (held by a field of world voxel
-// receiver_voxel, 0: in none) from its march start `origin`: the march starts
-// pc.march.z of its voxels along the ray and escapes its own shell within two.
-float march_light(LightPath path, vec3 origin, float receiver_voxel, float jitter, ivec2 pixel) {
+// receiver_voxel, 0: in none; of normal n) from its march start `origin`: the
+// march starts pc.march.z of its voxels along the ray and escapes its own
+// shell within two. raytraced: one ray towards a point of the light's disk,
+// new every frame (its 0 or 1 averages over accumulation frames to the share).
+float march_light(LightPath path, vec3 origin, vec3 n, float receiver_voxel, float jitter, ivec2 pixel) {
+  if (kVisibilityMode == kVisibilityRayTraced) {
+    uint seed = uint(path.light);
+    vec3 dir = disk_direction(path.march_dir, path.tan_radius,
+                              vec2(hash(uvec3(pixel, 0x2000u + seed)), hash(uvec3(pixel.yx, 0x3000u + seed))));
+    return ray_reaches(origin, n, dir, path.t_max) ? 1.0 : 0.0;
+  }
   return light_visibility(origin, path.march_dir, pc.march.z * receiver_voxel, path.t_max, path.tan_radius, jitter,
                           2.0 * receiver_voxel, pixel);
+}
+
+// The share of the world light reaching a receiver (see march_light and
+// sky_visibility). raytraced: two rays, cosine-distributed over the
+// hemisphere around n and new every frame.
+float world_light_visibility(vec3 origin, vec3 n, float receiver_voxel, float jitter, ivec2 pixel) {
+  if (kVisibilityMode != kVisibilityRayTraced) return sky_visibility(origin, n, receiver_voxel, jitter, pixel);
+  float sum = 0.0;
+  for (uint k = 0u; k < 2u; ++k) {
+    vec3 dir = sky_direction(n, pixel, k);
+    if (!enters_sky_blocker(origin, dir) && ray_reaches(origin, n, dir, 1e10)) sum += 1.0;
+  }
+  return 0.5 * sum;
 }

@@ -129,6 +129,7 @@ struct GBufferPush {
 const uint kVisibilitySignedSdf = 0u;    // march signed fields: fine SDFs (rtsdf, rtsdf_world, rt_only)
 const uint kVisibilityUnsignedSdf = 1u;  // march an unsigned field: the coarse SDF (jfa_only)
 const uint kVisibilityShadowMaps = 2u;   // look up EVSM shadow maps (csm_evsm)
+const uint kVisibilityRayTraced = 3u;    // trace rays through the BVH towards a point of each light (raytraced)
 
 // Which part of the shading a pipeline runs (its specialization constant 1; see ShadePass).
 const uint kShadeFull = 0u;    // every pixel marches its own lights (the world light: from the quad pass)

@@ -14,7 +14,10 @@ class RTSDFSettings(bpy.types.PropertyGroup):
                 "The paper as published: one field of the whole scene, rebuilt whenever anything moves"),
                ("rt_only", "RT only", "Baseline: the fine SDF ray traced at every texel of its grid, every frame"),
                ("jfa_only", "JFA only", "Baseline: shadows marched through the jump-flooded coarse SDF alone"),
-               ("csm_evsm", "CSM + EVSM", "Baseline: cascaded shadow maps filtered as exponential variance shadow maps")),
+               ("csm_evsm", "CSM + EVSM", "Baseline: cascaded shadow maps filtered as exponential variance shadow maps"),
+               ("raytraced", "Ray Traced",
+                "Reference: exact shadow rays through the scene's BVHs towards a random point of each light, "
+                "averaging to the exact soft shadow over the samples (slow)")),
         description="Where shadows come from; all methods share the same shading")
     shadow_map_size: IntProperty(
         name="Shadow Map Size", default=1024, min=64, max=4096,

@@ -15,8 +15,9 @@ namespace {
 constexpr VkDescriptorType kImage = VK_DESCRIPTOR_TYPE_STORAGE_IMAGE;
 constexpr VkDescriptorType kBuffer = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
 // Every pass sees the same bindings (each reads those it needs).
-const std::vector<VkDescriptorType> kBindings = {kImage, kImage, kImage,  kBuffer, kBuffer, kBuffer, kImage, kImage,
-                                                 kImage, kBuffer, kBuffer, kBuffer, kImage, kBuffer, kBuffer};
+const std::vector<VkDescriptorType> kBindings = {kImage,  kImage,  kImage,  kBuffer, kBuffer, kBuffer, kImage,
+                                                 kImage,  kImage,  kBuffer, kBuffer, kBuffer, kImage,  kBuffer,
+                                                 kBuffer, kBuffer, kBuffer, kBuffer, kBuffer};
 }  // namespace
 
 ShadePass::ShadePass(const vk::Context& context)
@@ -25,6 +26,12 @@ ShadePass::ShadePass(const vk::Context& context)
       no_shadow_tiles_(context, sizeof(gpu::ShadowTile), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
                        vk::Buffer::Access::DeviceOnly) {
   vk::make_general(context, {&no_shadow_atlas_});
+  // An empty box (lo above hi): every ray misses the top level at once.
+  gpu::BvhNode empty{};
+  empty.lo = glm::vec4(1.0f);
+  empty.hi = glm::vec4(-1.0f);
+  empty.count = 1;
+  no_rays_ = vk::upload_buffer(context, &empty, sizeof empty, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
 }
 
 ShadePass::Passes& ShadePass::passes_for(uint32_t mode, bool share_lights) {
@@ -65,7 +72,8 @@ void ShadePass::resize(glm::ivec2 size, int lights) {
 }
 
 void ShadePass::record(VkCommandBuffer cmd, const GBufferPass& gbuffer, const MarchFields& fields,
-                       const ShadowMapPass* shadow_maps, const vk::Buffer& lights, const vk::Buffer& frame,
+                       const ShadowMapPass* shadow_maps, const GpuScene::RayStructures* rays,
+                       const vk::Buffer& lights, const vk::Buffer& frame,
                        const vk::Image& accum_color, const vk::Image& accum_passes, bool march_sky, bool share_lights,
                        const gpu::ShadePush& push, vk::GpuTimer* timer) {
   const uint32_t mode = push.visibility.x;
@@ -88,7 +96,11 @@ void ShadePass::record(VkCommandBuffer cmd, const GBufferPass& gbuffer, const Ma
               vk::Resource::storage_buffer(shadow_maps ? shadow_maps->tiles() : no_shadow_tiles_),
               vk::Resource::storage_buffer(shadow_maps ? shadow_maps->light_tiles() : no_shadow_tiles_),
               vk::Resource::storage_buffer(fields.nodes()), vk::Resource::storage_image(quad_samples_),
-              vk::Resource::storage_buffer(quad_lights_), vk::Resource::storage_buffer(fill_list_)});
+              vk::Resource::storage_buffer(quad_lights_), vk::Resource::storage_buffer(fill_list_),
+              vk::Resource::storage_buffer(rays ? rays->top_nodes : no_rays_),
+              vk::Resource::storage_buffer(rays ? rays->instances : no_shadow_tiles_),
+              vk::Resource::storage_buffer(rays ? rays->bottom_nodes : no_shadow_tiles_),
+              vk::Resource::storage_buffer(rays ? rays->triangles : no_shadow_tiles_)});
     pass.push_constants(cmd, push);
   };
   auto barrier = [&](VkAccessFlags dst_access, VkPipelineStageFlags dst_stage) {

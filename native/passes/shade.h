@@ -8,6 +8,7 @@
 #include <array>
 #include <memory>
 
+#include "gpu_scene.h"
 #include "grid.h"
 #include "march_fields.h"
 #include "passes/gbuffer.h"
@@ -26,8 +27,9 @@ class ShadePass {
   // Sizes the quad pass's outputs and the fill list for an image and a light
   // count (outside a command buffer: a new image is set up by a submission).
   void resize(glm::ivec2 size, int lights);
-  // `shadow_maps`: only with push.visibility.x == kVisibilityShadowMaps
-  // (null: placeholders are bound in their place). `march_sky`: the world
+  // `shadow_maps`: only with push.visibility.x == kVisibilityShadowMaps,
+  // `rays` (the shadow casters' BVHs) only with kVisibilityRayTraced (null:
+  // placeholders are bound in their place; with no rays, nothing blocks). `march_sky`: the world
   // light is marched (it has some colour and the method is an SDF's).
   // `share_lights` (SDF methods only): the lights' visibility too is marched
   // at one pixel of each 2x2 quad and taken from there by the pixels on the
@@ -41,7 +43,8 @@ class ShadePass {
   // The pipelines are made for push.visibility.x's method on their first use.
   // `timer` (optional) gets a "quad" mark after the quad pass.
   void record(VkCommandBuffer cmd, const GBufferPass& gbuffer, const MarchFields& fields,
-              const ShadowMapPass* shadow_maps, const vk::Buffer& lights, const vk::Buffer& frame,
+              const ShadowMapPass* shadow_maps, const GpuScene::RayStructures* rays, const vk::Buffer& lights,
+              const vk::Buffer& frame,
               const vk::Image& accum_color, const vk::Image& accum_passes, bool march_sky, bool share_lights,
               const gpu::ShadePush& push, vk::GpuTimer* timer = nullptr);
 
@@ -55,9 +58,10 @@ class ShadePass {
   Passes& passes_for(uint32_t mode, bool share_lights);
 
   const vk::Context& context_;
-  std::array<Passes, 3> passes_;
+  std::array<Passes, 4> passes_;
   vk::Image no_shadow_atlas_;   // 1 texel
-  vk::Buffer no_shadow_tiles_;  // one tile, and one light's empty range
+  vk::Buffer no_shadow_tiles_;  // one tile, and one light's empty range (also stands in for the BVHs)
+  vk::Buffer no_rays_;          // a BVH node with no instance: nothing to hit
   glm::ivec2 size_{0};
   vk::Image quad_samples_;      // per 2x2 quad: its sample's normal and world light
   vk::Buffer quad_lights_;      // per light and quad: the light's visibility at the quad's sample

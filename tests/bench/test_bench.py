@@ -64,7 +64,7 @@ class QuickRun(unittest.TestCase):
                                                      "dense_mb"])
                 rows = list(reader)
             methods = {row["method"] for row in rows}
-            self.assertEqual(methods, {"cycles", "rtsdf", "rtsdf_world", "rt_only", "jfa_only", "csm_evsm", "eevee"})
+            self.assertEqual(methods, {"cycles", "rtsdf", "rtsdf_world", "rt_only", "jfa_only", "csm_evsm", "raytraced", "eevee"})
             for row in rows:
                 self.assertGreater(float(row["ms_per_frame"]), 0.0)
                 if row["method"] != "cycles":
