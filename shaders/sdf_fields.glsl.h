@@ -63,22 +63,21 @@ float field_value_at(FieldInstance f, vec3 q) {
 const float kFarAway = 3.0e38;
 
 // One placed field at a point q of its voxel space (the world point
-// world_to_field maps there): (x) a distance in world units that is never
-// more than the true one, for the march's steps; (y) the field's trilinear
-// value inside its box, kFarAway outside it, for clearances (outside the box
-// only bounds are known, and a loose bound darkens penumbrae: the box's
-// margin keeps every surface far enough from its outside); (z) the world size
-// of the field's voxel. The box is the part of the grid around what the field
-// holds (a grid with room for motion reads only far values in the rest).
-// Outside the box the step's bound is the distance to what the field holds
-// (its box less the margin).
+// world_to_field maps there): (x) outside the field's box, a distance in
+// world units that is never more than the true one to what the field holds
+// (its box less the margin), which bounds the march's steps; kFarAway inside;
+// (y) the field's trilinear value inside its box, kFarAway outside it, for
+// clearances (outside the box only bounds are known, and a loose bound
+// darkens penumbrae: the box's margin keeps every surface far enough from its
+// outside); (z) the world size of the field's voxel. The box is the part of
+// the grid around what the field holds (a grid with room for motion reads
+// only far values in the rest).
 vec3 field_distance_at(FieldInstance f, vec3 q) {
   if (any(lessThan(q, f.box_lo.xyz)) || any(greaterThan(q, f.box_hi.xyz))) {
     float margin = f.scale.z;
     return vec3(length(q - clamp(q, f.box_lo.xyz + margin, f.box_hi.xyz - margin)) * f.scale.x, kFarAway, f.scale.y);
   }
-  float h = field_value_at(f, q) * f.scale.x;
-  return vec3(h, h, f.scale.y);
+  return vec3(kFarAway, field_value_at(f, q) * f.scale.x, f.scale.y);
 }
 
 vec3 field_distance(uint index, vec3 world) {
@@ -111,14 +110,22 @@ int gather_fields(vec3 origin, vec3 inv_dir, float t0, float t1, float reach) {
 }
 
 // The scene at a world point, over the first `count` gathered fields, as
-// field_distance: the smallest step bound (x) and clearance (y), and the
-// voxel (z) of the field nearest by either.
+// field_distance: the smallest bound from the fields whose box the point is
+// outside (x) and the smallest clearance from those it is inside (y); and
+// the voxel (z) of the field that gives that clearance (or, outside every
+// box, of the nearest by bound). The march's epsilon and step cap are in that
+// field's voxels: those of the surface nearest the sample. A finer field
+// merely nearby (a window frame beside a wall) only bounds the step by how
+// far its box is; sizing the steps by its voxels made rays run out of steps
+// before they reached the wall, and light came through it.
 vec3 nearby_distance(vec3 world, int count) {
   vec3 best = vec3(kFarAway, kFarAway, 0.0);
+  float bound_voxel = 0.0;
   for (int k = 0; k < count; ++k) {
     vec3 d = field_distance(nearby_fields[k], world);
-    if (d.x < best.x) best.xz = d.xz;
-    best.y = min(best.y, d.y);
+    if (d.x < best.x) best.x = d.x, bound_voxel = d.z;
+    if (d.y < best.y) best.yz = d.yz;
   }
+  if (best.y >= kFarAway) best.z = bound_voxel;
   return best;
 }

@@ -208,6 +208,7 @@ float visibility(vec3 origin, vec3 dir, float t_min, float t_max, float tan_radi
     // samples that far apart moves the ratio by less than 1/6.
     float cone_step = tan_radius * t * (1.0 / 3.0);
     step = clamp(abs(h), 0.5 * epsilon, max(max_step, cone_step));
+    step = min(step, max(sample_.x, 0.5 * epsilon));  // (no further than the boxes of fields not yet entered)
     if (step > max_step) step = min(step, max(segment_end - t, max_step));  // (gathered fields only reach so far)
     t += step;
   }

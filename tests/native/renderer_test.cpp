@@ -474,5 +474,41 @@ TEST_F(RendererTest, NoSunInsideAClosedRoomWithThinWalls) {
   EXPECT_LT(bright, 0.02);
 }
 
+// A low sun behind a wall 8 units away, and on the way a small object (its
+// own mesh, so its own field, voxels a hundredth of the wall's) half a unit
+// beside the rays: the ground stays in the wall's shadow. The march's steps
+// were sized by the voxels of the field nearest by bound, the small
+// object's, for most of the way; the rays ran out of steps before they
+// reached the wall, and light came through it (an Archimesh room's window
+// frame lit twice the floor Cycles lit).
+TEST_F(RendererTest, SmallObjectNearTheRaysDoesNotLetLightThroughAWall) {
+  // The wall's mesh has a second part far off (as a room's walls surround
+  // it), so that its field's box holds the rays' whole way.
+  Mesh wall = reference::box({0.0f, -5.0f, 0.0f}, {0.2f, 5.0f, 10.0f});
+  reference::append(wall, reference::box({-9.9f, -4.9f, 9.8f}, {-9.8f, -4.8f, 9.9f}));
+  Scene scene;
+  scene.meshes = {wall, reference::box({-4.05f, 0.45f, 0.7f}, {-3.95f, 0.55f, 0.8f}),  // and the small object
+                  reference::sheet({-10.0f, -5.0f}, {0.0f, 5.0f}, 0.0f)};            // on the ground
+  scene.instances = {{0, glm::mat4(1.0f)}, {1, glm::mat4(1.0f)}, {2, glm::mat4(1.0f)}};
+  GpuScene gpu_scene(context(), scene);
+  Light sun;
+  sun.type = LightType::Sun;
+  const float elevation = 10.0f * float(M_PI) / 180.0f;  // (the rays reach the wall 1.4 up)
+  sun.direction = {-std::cos(elevation), 0.0f, -std::sin(elevation)};
+  sun.energy = 3.0f;
+  sun.sun_angle = 0.5f * float(M_PI) / 180.0f;
+  RenderSettings settings;
+  settings.samples = 2;
+  Renderer renderer(context());
+  // The ground around x = -8, y = 0 from above.
+  const Camera camera = orthographic_view({-8.0f, 0.0f, 5.0f}, {-8.0f, 0.0f, 0.0f}, {0, 1, 0}, 0.5f);
+  const RenderOutput out = renderer.render(gpu_scene, camera, {sun}, glm::vec3(0.0f), 16, 16, settings);
+  double sum = 0.0, brightest = 0.0;
+  for (float v : out.shadow) sum += v, brightest = std::max(brightest, double(v));
+  std::printf("ground behind a wall, a small object near the rays: mean visibility %.4f, brightest %.4f\n",
+              sum / double(out.shadow.size()), brightest);
+  EXPECT_LT(brightest, 0.05);
+}
+
 }  // namespace
 }  // namespace rtsdf
