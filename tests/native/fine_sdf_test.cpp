@@ -324,6 +324,30 @@ TEST_F(FineSdfTest, OneSidedSheetIsAThinSlabOnBothSides) {
   expect_slab(b.grid, b.fine, 1.0f, "one-sided sheet");
 }
 
+// A flat mesh alone: its grid is centred on it, and with an odd number of
+// texels across (coarse 64, fine 96: 9) the middle layer's centres lie on the
+// sheet itself. Rays from there start on the triangles and met them from no
+// direction: that layer read clear (+1.3 voxels), the sheet had no slab, and
+// the sun came through an Archimesh room's ceiling.
+TEST_F(FineSdfTest, SheetThroughTexelCentresIsStillASlab) {
+  GpuScene scene(context(), single_mesh_scene(reference::sheet({0.0f, 0.0f}, {5.0f, 4.0f}, 2.6f)));
+  Built b = build(scene, 64, 96, 2);
+  ASSERT_EQ(b.grid.dims.z % 2, 1);
+  const int middle = b.grid.dims.z / 2;
+  ASSERT_NEAR(b.grid.voxel_center({0, 0, middle}).z, 2.6f, 1e-3f * b.grid.voxel_size) << "a layer on the sheet";
+  size_t count = 0, clear = 0;
+  for (int y = 0; y < b.grid.dims.y; ++y)
+    for (int x = 0; x < b.grid.dims.x; ++x) {
+      const glm::vec3 p = b.grid.voxel_center({x, y, middle});
+      if (p.x < 0.5f || p.x > 4.5f || p.y < 0.5f || p.y > 3.5f) continue;
+      count++;
+      clear += b.fine[size_t(x) + size_t(b.grid.dims.x) * (y + size_t(b.grid.dims.y) * middle)] > -0.9f * b.grid.voxel_size;
+    }
+  std::printf("sheet through texel centres: %zu of %zu texels on it read less than 0.9 voxel inside\n", clear, count);
+  ASSERT_GT(count, 1000u);
+  EXPECT_EQ(clear, 0u);
+}
+
 // A closed plate far thinner than a voxel has no texel inside it: marches
 // through it would never read a negative value. It reads as a slab too, half
 // a voxel beyond its faces, with no gap across it.
