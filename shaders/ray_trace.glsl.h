@@ -48,10 +48,12 @@ void trace_mesh(uint root, vec3 origin, vec3 dir, bool mirrored, inout float bes
       float v = dot(dir, q) * inv_det;
       if (v < 0.0 || u + v > 1.0) continue;
       float t = dot(e2, q) * inv_det;
-      // (t = 0 counts: a fine texel whose centre lies on a triangle - a flat
-      // mesh in the middle of its grid - finds it only so, from no direction
-      // otherwise, and read as clear of a sheet it is on)
-      if (t >= 0.0 && t < best_t) { best_t = t; front = (det > 0.0) != mirrored; best_triangle = i; }
+      // (t = 0 counts for a sheet's triangle: a fine texel whose centre lies
+      // on a sheet - a flat mesh in the middle of its grid - finds it only so,
+      // and read as clear of it. Not for a volume's: where solids touch (a
+      // wall under a ceiling) such a face lies inside, and found it reads as a crack.)
+      bool counts = t > 0.0 || (t == 0.0 && triangle_corners[3u * i].w == 0.0);
+      if (counts && t < best_t) { best_t = t; front = (det > 0.0) != mirrored; best_triangle = i; }
     }
   }
 }
