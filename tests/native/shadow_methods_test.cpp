@@ -93,22 +93,28 @@ double method_unit(ShadowMethod method, const GpuScene& scene, const RenderSetti
   return texel;
 }
 
+// A 10 degree sun at 45 degrees, shining towards +x.
+constexpr double kTilt = M_PI / 4, kSunAngle = 10.0 * M_PI / 180.0;
+Light tilted_sun() {
+  Light sun;
+  sun.type = LightType::Sun;
+  sun.direction = {float(std::sin(kTilt)), 0, -float(std::cos(kTilt))};
+  sun.energy = 3.0f;
+  sun.sun_angle = float(kSunAngle);
+  return sun;
+}
+
 class ShadowMethodsTest : public testing::VulkanTest, public ::testing::WithParamInterface<const char*> {};
 class ShadowMapsTest : public testing::VulkanTest {};
 class RtOnlyTest : public testing::VulkanTest {};
 class RayTracedTest : public testing::VulkanTest {};
 
-// A 10 degree sun at 45 degrees, shining towards +x: the shadow's centre is
-// at x = 1, its far edge (half the sun hidden) near x = 1.69.
+// tilted_sun(): the shadow's centre is at x = 1, its far edge (half the sun
+// hidden) near x = 1.69.
 TEST_P(ShadowMethodsTest, SphereShadowUnderSun) {
   const ShadowMethod method = parse_shadow_method(GetParam());
   GpuScene scene(context(), sphere_over_ground());
-  const double tilt = M_PI / 4, sun_angle = 10.0 * M_PI / 180.0;
-  Light sun;
-  sun.type = LightType::Sun;
-  sun.direction = {float(std::sin(tilt)), 0, -float(std::cos(tilt))};
-  sun.energy = 3.0f;
-  sun.sun_angle = float(sun_angle);
+  const Light sun = tilted_sun();
   const RenderSettings settings = small_settings(method);
   Renderer& renderer = shared_renderer();
   const RenderOutput out = renderer.render(scene, top_view(), {sun}, glm::vec3(0.05f), kSize, kSize, settings);
@@ -116,7 +122,8 @@ TEST_P(ShadowMethodsTest, SphereShadowUnderSun) {
 
   const Row rendered{out};
   auto exact = [&](double x) {
-    return sphere_visibility({x, 0, 0}, {-std::sin(tilt), 0, std::cos(tilt)}, 0.5 * sun_angle, {0, 0, kHeight}, kRadius);
+    return sphere_visibility({x, 0, 0}, {-std::sin(kTilt), 0, std::cos(kTilt)}, 0.5 * kSunAngle, {0, 0, kHeight},
+                             kRadius);
   };
   const Profile r = profile(rendered, 1.0, 4.0 / kSize, 2.0), e = profile(exact, 1.0, 0.001, 2.0);
   const double unit = method_unit(method, scene, settings, renderer), pixel = 4.0 / kSize;
@@ -185,18 +192,14 @@ TEST_F(ShadowMapsTest, SphereShadowUnderPointLightCube) { check_local_light_shad
 // raytraced with 256 samples: the sun's and a spherical light's soft shadows
 // along y = 0 are the analytic ones up to the noise of 256 rays a pixel
 // (standard deviation at most 0.5 / 16 = 0.031; pixels are 1/16 wide, and
-// the profile is sampled at their centres), on the ground beside the sphere. Here no field or map quantizes
-// anything: what is left of any method's error against it is its visibility.
+// the profile is sampled at their centres), on the ground beside the
+// sphere. Here no field or map quantizes anything: what is left of any
+// method's error against it is its visibility.
 TEST_F(RayTracedTest, SoftShadowsConvergeToTheAnalyticOnes) {
   GpuScene scene(context(), sphere_over_ground());
   RenderSettings settings = small_settings(ShadowMethod::RayTraced);
   settings.samples = 256;
-  const double tilt = M_PI / 4, sun_angle = 10.0 * M_PI / 180.0;
-  Light sun;
-  sun.type = LightType::Sun;
-  sun.direction = {float(std::sin(tilt)), 0, -float(std::cos(tilt))};
-  sun.energy = 3.0f;
-  sun.sun_angle = float(sun_angle);
+  const Light sun = tilted_sun();
   Light point;
   point.type = LightType::Point;
   point.position = {-1.0f, 0.0f, 3.5f};
@@ -214,7 +217,7 @@ TEST_F(RayTracedTest, SoftShadowsConvergeToTheAnalyticOnes) {
       const glm::dvec3 p(x, 0, 0);
       double exact;
       if (light.type == LightType::Sun) {
-        exact = sphere_visibility(p, {-std::sin(tilt), 0, std::cos(tilt)}, 0.5 * sun_angle, centre, kRadius);
+        exact = sphere_visibility(p, {-std::sin(kTilt), 0, std::cos(kTilt)}, 0.5 * kSunAngle, centre, kRadius);
       } else {
         const glm::dvec3 to_light = glm::dvec3(light.position) - p;
         const double distance = glm::length(to_light);
