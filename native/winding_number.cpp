@@ -18,35 +18,36 @@ std::vector<gpu::WindingDipole> winding_dipoles(const Bvh& bvh, const Mesh& mesh
   for (size_t n = bvh.nodes.size(); n-- > 0;) {
     const BvhBuildNode& node = bvh.nodes[n];
     Sum& sum = sums[n];
-    double radius = 0.0;
-    if (node.count > 0) {
+    const bool leaf = node.count > 0;
+    auto counts = [&](uint32_t i) { return piece_thickness[bvh.order[i]] > 0.0f; };
+    if (leaf) {
       for (uint32_t i = node.first; i < node.first + node.count; ++i) {
+        if (!counts(i)) continue;
         const uint32_t t = bvh.order[i];
-        if (!(piece_thickness[t] > 0.0f)) continue;
         const glm::dvec3 area_vector = 0.5 * glm::cross(corner(t, 1) - corner(t, 0), corner(t, 2) - corner(t, 0));
         const double area = glm::length(area_vector);
         sum.normal += area_vector;
         sum.weighted_centre += area * (corner(t, 0) + corner(t, 1) + corner(t, 2)) / 3.0;
         sum.area += area;
       }
-      const glm::dvec3 centre = sum.area > 0.0 ? sum.weighted_centre / sum.area : glm::dvec3(0.0);
-      for (uint32_t i = node.first; i < node.first + node.count; ++i) {
-        const uint32_t t = bvh.order[i];
-        if (piece_thickness[t] > 0.0f)
-          for (int k = 0; k < 3; ++k) radius = std::max(radius, glm::length(corner(t, k) - centre));
-      }
     } else {
-      const Sum& a = sums[node.first];
-      const Sum& b = sums[node.first + 1];
-      sum.normal = a.normal + b.normal;
-      sum.weighted_centre = a.weighted_centre + b.weighted_centre;
-      sum.area = a.area + b.area;
-      const glm::dvec3 centre = sum.area > 0.0 ? sum.weighted_centre / sum.area : glm::dvec3(0.0);
+      for (uint32_t child : {node.first, node.first + 1}) {
+        sum.normal += sums[child].normal;
+        sum.weighted_centre += sums[child].weighted_centre;
+        sum.area += sums[child].area;
+      }
+    }
+    const glm::dvec3 centre = sum.area > 0.0 ? sum.weighted_centre / sum.area : glm::dvec3(0.0);
+    // The ball about the centre: over a leaf's corners, or around its children's balls.
+    double radius = 0.0;
+    if (leaf) {
+      for (uint32_t i = node.first; i < node.first + node.count; ++i)
+        for (int k = 0; k < 3 && counts(i); ++k) radius = std::max(radius, glm::length(corner(bvh.order[i], k) - centre));
+    } else {
       for (uint32_t child : {node.first, node.first + 1})
         if (sums[child].area > 0.0)
           radius = std::max(radius, glm::length(glm::dvec3(dipoles[child].centre) - centre) + dipoles[child].centre.w);
     }
-    const glm::dvec3 centre = sum.area > 0.0 ? sum.weighted_centre / sum.area : glm::dvec3(0.0);
     // (radius rounded up, so that float centres still lie within it)
     dipoles[n].centre = glm::vec4(centre, float(radius * (1.0 + 1e-6)));
     dipoles[n].normal = glm::vec4(sum.normal, float(sum.area));

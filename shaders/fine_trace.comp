@@ -27,7 +27,7 @@ layout(local_size_x = RTSDF_TRACE_GROUP) in;
 #include "ray_trace.glsl.h"
 layout(binding = 4, r32f) uniform readonly image3D coarse;
 layout(binding = 5, r32f) uniform image3D fine;
-layout(binding = 6, rgba32f) uniform image3D history;  // x: 1 inside, y unused, z: f, w: g
+layout(binding = 6, rgba32f) uniform image3D history;  // x, y unused; z: f, w: g
 layout(std430, binding = 7) readonly buffer TraceList { uint trace_count; uint trace_texels[]; };
 #define RTSDF_WINDING_BINDING 8
 #include "winding_number.glsl.h"
@@ -80,6 +80,6 @@ void main() {
   bool inside = unanimous ? hits.y > 0.0 : inside_scene(world);
   float f = min(alpha * previous.z + (1.0 - alpha) * target, nearest);
   float g = min(alpha * previous.w + (1.0 - alpha) * pc.params.w, nearest_slab);
-  imageStore(history, p, vec4(inside ? 1.0 : 0.0, 0.0, f, g));
+  imageStore(history, p, vec4(0.0, 0.0, f, g));
   imageStore(fine, p, vec4(min(inside ? -f : f, g)));
 }
