@@ -123,6 +123,7 @@ void Renderer::validate(int width, int height, const RenderSettings& settings) c
   if (!(settings.shadow_epsilon > 0.0f) || !(settings.max_step > 0.0f))
     throw Error("shadow_epsilon and max_step must be positive");
   if (settings.shadow_map_size < 16 || settings.shadow_map_size > 8192) throw Error("shadow_map_size must be 16 to 8192");
+  if (settings.exact_rays < 0 || settings.exact_rays > 64) throw Error("exact_rays must be 0 (none) to 64");
   if (!(settings.field_budget_mb >= 1.0 && settings.field_budget_mb <= 1e7))
     throw Error("field_budget_mb must be 1 to 10^7 MiB");
 }
@@ -304,6 +305,11 @@ void Renderer::begin(GpuScene& scene, const Camera& camera, const std::vector<Li
     case ShadowMethod::Rtsdf:
     case ShadowMethod::RtsdfWorld:
     case ShadowMethod::RtOnly:
+      if (settings.exact_rays > 0 && has_casters_) {
+        push_.visibility.x = gpu::kVisibilityHybrid;
+        push_.surface.z = float(settings.exact_rays);
+        scene.ray_structures();  // (built now, not in a frame)
+      }
       break;
     case ShadowMethod::JfaOnly:
       // The unsigned field's surfaces are shells epsilon + beta thick: a
@@ -370,8 +376,9 @@ void Renderer::add_frame() {
   push_.image = glm::ivec4(width_, height_, light_count_, frame_);
   push_.march.w = 1.0f / float(frame_ + 1);
   const ShadowMapPass* shadow_maps = settings_.shadow_method == ShadowMethod::CsmEvsm ? shadow_maps_.get() : nullptr;
-  const GpuScene::RayStructures* rays =
-      settings_.shadow_method == ShadowMethod::RayTraced && has_casters_ ? &scene_->ray_structures() : nullptr;
+  const bool traces_rays =
+      push_.visibility.x == gpu::kVisibilityRayTraced || push_.visibility.x == gpu::kVisibilityHybrid;
+  const GpuScene::RayStructures* rays = traces_rays && has_casters_ ? &scene_->ray_structures() : nullptr;
   context_.submit_and_wait([&](VkCommandBuffer cmd) {
     shading_timer_.begin(cmd);
     gbuffer_.record(cmd, *scene_, frame_buffer_, field_voxels_);

@@ -62,6 +62,12 @@ struct RenderSettings {
   int shadow_max_steps = 96;
   float max_step = 4.0f;         // voxels of the field marched, as shadow_epsilon
   int shadow_map_size = 1024;    // csm_evsm: texels per side of each cascade (and spot view, cube face)
+  // Signed-field methods (rtsdf, rtsdf_world, rt_only): where the march cannot
+  // tell lit from shadowed with shadow_epsilon to spare (penumbrae, contact,
+  // occluders thinner than the field resolves), this many rays per light and
+  // frame through the casters' BVHs decide instead (0: the field's cone
+  // estimate everywhere, as in the paper).
+  int exact_rays = 0;
   int samples = 16;              // accumulation frames (sub-pixel and shadow-origin jitter each)
   // Pixel filter: Blackman-Harris, this wide in pixels (Blender's Filter Size,
   // Cycles' default filter and width), sampled by each frame's sub-pixel

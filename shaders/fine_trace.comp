@@ -58,7 +58,7 @@ void main() {
     vec3 dir = rotate(pc.rotation, vec3(r * cos(phi), r * sin(phi), z));
     bool front;
     uint triangle, instance;
-    float t = trace_scene(world, dir, pc.params.w, front, triangle, instance);
+    float t = trace_scene(world, dir, pc.params.w, false, front, triangle, instance);
     if (t < pc.params.w) {
       // The exact distance to the triangle hit is still an upper bound of the
       // texel's distance, and no larger than t: minima converge much faster.

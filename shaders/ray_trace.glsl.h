@@ -20,7 +20,9 @@ float box_entry(vec3 origin, vec3 inv_dir, vec4 lo, vec4 hi, float t_max) {
   return enter <= min(span.y, t_max) ? enter : 3.0e38;
 }
 
-void trace_mesh(uint root, vec3 origin, vec3 dir, bool mirrored, inout float best_t, inout bool front,
+// any_hit: stop at the first hit within best_t, not the closest (a shadow ray
+// only asks whether there is one).
+void trace_mesh(uint root, vec3 origin, vec3 dir, bool mirrored, bool any_hit, inout float best_t, inout bool front,
                 inout uint best_triangle) {
   vec3 inv_dir = 1.0 / dir;
   uint stack[RTSDF_STACK];
@@ -53,14 +55,21 @@ void trace_mesh(uint root, vec3 origin, vec3 dir, bool mirrored, inout float bes
       // and read as clear of it. Not for a volume's: where solids touch (a
       // wall under a ceiling) such a face lies inside, and found it reads as a crack.)
       bool counts = t > 0.0 || (t == 0.0 && triangle_corners[3u * i].w == 0.0);
-      if (counts && t < best_t) { best_t = t; front = (det > 0.0) != mirrored; best_triangle = i; }
+      if (counts && t < best_t) {
+        best_t = t;
+        front = (det > 0.0) != mirrored;
+        best_triangle = i;
+        if (any_hit) return;
+      }
     }
   }
 }
 
 // Returns the closest hit distance below t_max (or t_max), its facing, and
-// which triangle (index into triangle_corners / 3) of which instance it hit.
-float trace_scene(vec3 origin, vec3 dir, float t_max, out bool front, out uint hit_triangle, out uint hit_instance) {
+// which triangle (index into triangle_corners / 3) of which instance it hit;
+// any_hit: some hit below t_max, not the closest.
+float trace_scene(vec3 origin, vec3 dir, float t_max, bool any_hit, out bool front, out uint hit_triangle,
+                  out uint hit_instance) {
   front = true;
   hit_triangle = 0u;
   hit_instance = 0u;
@@ -81,9 +90,10 @@ float trace_scene(vec3 origin, vec3 dir, float t_max, out bool front, out uint h
       // Unnormalized object-space direction keeps t in world units.
       vec3 o = (inst.world_to_object * vec4(origin, 1.0)).xyz;
       vec3 d = mat3(inst.world_to_object) * dir;
-      uint before = hit_triangle;
-      trace_mesh(inst.blas_root, o, d, inst.mirrored != 0u, best_t, front, hit_triangle);
-      if (hit_triangle != before) hit_instance = i;
+      float before = best_t;
+      trace_mesh(inst.blas_root, o, d, inst.mirrored != 0u, any_hit, best_t, front, hit_triangle);
+      if (best_t < before) hit_instance = i;
+      if (any_hit && best_t < t_max) return best_t;
     }
   }
   return best_t;

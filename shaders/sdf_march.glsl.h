@@ -16,13 +16,14 @@ void tangent_frame(vec3 n, out vec3 t, out vec3 b) {
   b = cross(n, t);
 }
 
-// A direction towards this frame's point of a light's disk (tan_radius seen
-// along dir): each pixel's points over frames follow the R2 sequence from a
-// random start (`start`, 0 to 1), evenly spread over the disk.
-vec3 disk_direction(vec3 dir, float tan_radius, vec2 start) {
+// A direction towards the index-th point of a light's disk (tan_radius seen
+// along dir): each pixel's points (over frames, and over its rays in a frame)
+// follow the R2 sequence from a random start (`start`, 0 to 1), evenly spread
+// over the disk.
+vec3 disk_direction(vec3 dir, float tan_radius, vec2 start, uint index) {
   vec3 t, b;
   tangent_frame(dir, t, b);
-  vec2 u = fract(start + float(pc.image.w) * vec2(0.7548776662, 0.5698402910));
+  vec2 u = fract(start + float(index) * vec2(0.7548776662, 0.5698402910));
   float r = tan_radius * sqrt(u.x), phi = 6.2831853 * u.y;
   return normalize(dir + r * (cos(phi) * t + sin(phi) * b));
 }
@@ -97,8 +98,13 @@ vec3 surface_normal_at(vec3 origin, vec3 dir, vec3 inv_dir, float t, float voxel
 // it through a face turned away from the one it entered by: a wall, a leaf, a
 // plate, not the rim of a solid), and the cone was not found wholly blocked:
 // the returned share is then only a guess (see light_visibility).
+// classify: no share, only what the field can tell with epsilon (about its
+// own error) to spare: 1 where the whole cone stays epsilon clear of every
+// surface, 0 where it lies epsilon deep inside an occluder, and -1 (uncertain)
+// elsewhere: in penumbrae, at contact, behind occluders thinner than the
+// error (slabs of sheets, leaf cards) and where the march ran out of steps.
 float visibility(vec3 origin, vec3 dir, float t_min, float t_max, float tan_radius, float jitter, float escape,
-                 vec3 own_normal, bool axis_blocks, out bool crossed_sheet) {
+                 vec3 own_normal, bool axis_blocks, bool classify, out bool crossed_sheet) {
   crossed_sheet = false;
   if (pc.visibility.z == 0u) return 1.0;
   vec3 inv_dir = safe_inverse(dir);
@@ -118,6 +124,7 @@ float visibility(vec3 origin, vec3 dir, float t_min, float t_max, float tan_radi
   // The axis's first passage through an occluder: where it entered, where it
   // left, and the voxel there (entry < 0: none yet; exit < 0: still inside).
   float entry = -1.0, exit = -1.0, crossing_voxel = 0.0;
+  bool uncertain = false;  // (classify) some sample's clearance was within epsilon of the cone's radius
   float segment_end = t;  // the fields near [t, segment_end] are gathered
   int nearby = 0;
   FieldInstance only_field;  // when nearby is 1: that field, and the ray in its voxel space
@@ -180,24 +187,33 @@ float visibility(vec3 origin, vec3 dir, float t_min, float t_max, float tan_radi
     } else if (deep_inside || (have_previous && previous_h < 0.0 && h - previous_h > step + voxel)) {
       deep_inside = true, h = -h;
     }
-    if (h < 0.0 && axis_blocks) return 0.0;
-    if (h < 0.0 && entry < 0.0) entry = t, crossing_voxel = voxel;
-    if (h >= 0.0 && entry >= 0.0 && exit < 0.0) exit = t;
-    if (tan_radius <= 0.0) {
-      if (!unsigned_field && h < epsilon) return 0.0;
-    } else {
-      float clearance = h, at = t;
-      if (have_previous && previous_h > 0.0 && h > 0.0) {
-        // Spheres of radius previous_h and h around the last two samples (step
-        // apart) meet y back along the ray, d off it. Marching straight away
-        // from the receiver they barely touch, back at the start: no estimate there.
-        float y = (h * h - previous_h * previous_h + step * step) / (2.0 * step);
-        if (y > 0.0 && y < h && t - y > t_start) clearance = sqrt(h * h - y * y), at = t - y;
-      }
-      float w = tan_radius * max(at, 1e-6);
+    if (classify) {
+      float w = tan_radius * t;
+      if (h <= -(w + epsilon)) return 0.0;
       bool own_plane = h >= t * dot(dir, own_normal) - 0.5 * epsilon && dot(own_normal, own_normal) > 0.0;
-      if (!own_plane) ratio = min(ratio, clearance / w);
-      if (ratio <= -1.0) return 0.0;
+      if (h < w + epsilon && !own_plane) uncertain = true;
+      // Clear again after the uncertain stretch: nothing further decides it.
+      else if (uncertain && h >= w + epsilon) return -1.0;
+    } else {
+      if (h < 0.0 && axis_blocks) return 0.0;
+      if (h < 0.0 && entry < 0.0) entry = t, crossing_voxel = voxel;
+      if (h >= 0.0 && entry >= 0.0 && exit < 0.0) exit = t;
+      if (tan_radius <= 0.0) {
+        if (!unsigned_field && h < epsilon) return 0.0;
+      } else {
+        float clearance = h, at = t;
+        if (have_previous && previous_h > 0.0 && h > 0.0) {
+          // Spheres of radius previous_h and h around the last two samples (step
+          // apart) meet y back along the ray, d off it. Marching straight away
+          // from the receiver they barely touch, back at the start: no estimate there.
+          float y = (h * h - previous_h * previous_h + step * step) / (2.0 * step);
+          if (y > 0.0 && y < h && t - y > t_start) clearance = sqrt(h * h - y * y), at = t - y;
+        }
+        float w = tan_radius * max(at, 1e-6);
+        bool own_plane = h >= t * dot(dir, own_normal) - 0.5 * epsilon && dot(own_normal, own_normal) > 0.0;
+        if (!own_plane) ratio = min(ratio, clearance / w);
+        if (ratio <= -1.0) return 0.0;
+      }
     }
     previous_h = h;
     have_previous = true;
@@ -212,6 +228,7 @@ float visibility(vec3 origin, vec3 dir, float t_min, float t_max, float tan_radi
     if (step > max_step) step = min(step, max(segment_end - t, max_step));  // (gathered fields only reach so far)
     t += step;
   }
+  if (classify) return uncertain || t < t_max ? -1.0 : 1.0;
   if (tan_radius <= 0.0) return 1.0;
   // (the normals only now, for the one passage, and each probe written once: probed in the loop, or inlined at
   // several places, they made every march 1.5 to 3x slower on lavapipe)
@@ -246,9 +263,10 @@ float light_visibility(vec3 origin, vec3 dir, float t_min, float t_max, float ta
   float v = 1.0;
   for (int pass = 0; pass < 2; ++pass) {
     bool crossed_sheet;
-    v = visibility(origin, march_dir, t_min, t_max, cone, jitter, escape, vec3(0.0), false, crossed_sheet);
+    v = visibility(origin, march_dir, t_min, t_max, cone, jitter, escape, vec3(0.0), false, false, crossed_sheet);
     if (!crossed_sheet || tan_radius <= 0.0) break;
-    march_dir = disk_direction(dir, tan_radius, vec2(hash(uvec3(pixel, 0x1157u)), hash(uvec3(pixel.yx, 0x1158u))));
+    march_dir = disk_direction(dir, tan_radius, vec2(hash(uvec3(pixel, 0x1157u)), hash(uvec3(pixel.yx, 0x1158u))),
+                               uint(pc.image.w));
     cone = 1e-3 * tan_radius;
   }
   return v;
@@ -284,7 +302,7 @@ float sky_visibility(vec3 origin, vec3 n, float receiver_voxel, float jitter, iv
     if (enters_sky_blocker(origin, dir)) continue;
     bool crossed_sheet;  // (never with axis_blocks)
     sum += visibility(origin, dir, pc.march.z * receiver_voxel, 1e10, 0.35, jitter, 2.0 * receiver_voxel,
-                      in_sdf ? n : vec3(0.0), true, crossed_sheet);
+                      in_sdf ? n : vec3(0.0), true, false, crossed_sheet);
   }
   return 0.5 * sum;
 }

@@ -128,7 +128,21 @@ bool ray_reaches(vec3 p, vec3 n, vec3 dir, float t_max) {
   vec3 start = p + n * (0.2 * same_surface_distance(p));
   bool front;
   uint triangle, instance;
-  return trace_scene(start, dir, t_max, front, triangle, instance) >= t_max;
+  return trace_scene(start, dir, t_max, true, front, triangle, instance) >= t_max;
+}
+
+// The share of `count` rays from p towards points of a light's disk that
+// reach it; over frames, each pixel's rays walk on through one sequence of
+// points (disk_direction), so their mean converges to the exact share.
+float rays_to_light(LightPath path, vec3 p, vec3 n, ivec2 pixel, int count) {
+  uint seed = uint(path.light);
+  vec2 start = vec2(hash(uvec3(pixel, 0x2000u + seed)), hash(uvec3(pixel.yx, 0x3000u + seed)));
+  float reached = 0.0;
+  for (int k = 0; k < count; ++k) {
+    vec3 dir = disk_direction(path.march_dir, path.tan_radius, start, uint(pc.image.w * count + k));
+    if (ray_reaches(p, n, dir, path.t_max)) reached += 1.0;
+  }
+  return reached / float(count);
 }
 
 // The share of a light reaching a receiver (held by a field of world voxel
@@ -136,15 +150,22 @@ bool ray_reaches(vec3 p, vec3 n, vec3 dir, float t_max) {
 // march starts pc.march.z of its voxels along the ray and escapes its own
 // shell within two. raytraced: one ray towards a point of the light's disk,
 // new every frame (its 0 or 1 averages over accumulation frames to the share).
+// Hybrid: the march only tells lit from shadowed where the field is sure
+// (visibility's classify); where it is not, pc.surface.z rays decide, as
+// raytraced's do (AMD's hybrid shadows trace rays alike, where the shadow
+// map cannot tell).
 float march_light(LightPath path, vec3 origin, vec3 n, float receiver_voxel, float jitter, ivec2 pixel) {
-  if (kVisibilityMode == kVisibilityRayTraced) {
-    uint seed = uint(path.light);
-    vec3 dir = disk_direction(path.march_dir, path.tan_radius,
-                              vec2(hash(uvec3(pixel, 0x2000u + seed)), hash(uvec3(pixel.yx, 0x3000u + seed))));
-    return ray_reaches(origin, n, dir, path.t_max) ? 1.0 : 0.0;
+  if (kVisibilityMode == kVisibilityRayTraced) return rays_to_light(path, origin, n, pixel, 1);
+  float t_min = pc.march.z * receiver_voxel, escape = 2.0 * receiver_voxel;
+  if (kVisibilityMode == kVisibilityHybrid) {
+    bool crossed_sheet;  // (never when classifying)
+    float v = visibility(origin, path.march_dir, t_min, path.t_max, path.tan_radius, jitter, escape, n, false, true,
+                         crossed_sheet);
+    if (v >= 0.0) return v;
+    vec3 p = origin - n * (pc.surface.x * receiver_voxel);  // (the rays start at the surface itself)
+    return rays_to_light(path, p, n, pixel, int(pc.surface.z));
   }
-  return light_visibility(origin, path.march_dir, pc.march.z * receiver_voxel, path.t_max, path.tan_radius, jitter,
-                          2.0 * receiver_voxel, pixel);
+  return light_visibility(origin, path.march_dir, t_min, path.t_max, path.tan_radius, jitter, escape, pixel);
 }
 
 // The share of the world light reaching a receiver (see march_light and

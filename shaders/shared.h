@@ -130,6 +130,8 @@ const uint kVisibilitySignedSdf = 0u;    // march signed fields: fine SDFs (rtsd
 const uint kVisibilityUnsignedSdf = 1u;  // march an unsigned field: the coarse SDF (jfa_only)
 const uint kVisibilityShadowMaps = 2u;   // look up EVSM shadow maps (csm_evsm)
 const uint kVisibilityRayTraced = 3u;    // trace rays through the BVH towards a point of each light (raytraced)
+const uint kVisibilityHybrid = 4u;       // march signed fields, and where they cannot tell lit from shadowed with
+                                         // epsilon to spare, trace rays (the SDF methods with exact_rays > 0)
 
 // Which part of the shading a pipeline runs (its specialization constant 1; see ShadePass).
 const uint kShadeFull = 0u;    // every pixel marches its own lights (the world light: from the quad pass)
@@ -192,7 +194,8 @@ struct ShadePush {
                       // z = the receiver's clearance at the start (voxels of its own field); w = weight of this frame
   vec4 field_reach;   // x = the longest step the march can take anywhere (world): max_step voxels of the coarsest field
   vec4 surface;       // x = a caster's march origin, off its surface along the normal (voxels of its field),
-                      // y = the shadow-map lookup's offset (texels)
+                      // y = the shadow-map lookup's offset (texels), z = rays per light where the field is
+                      // uncertain (kVisibilityHybrid)
   vec4 evsm;          // x = positive exponent c+, y = negative exponent c-, z = light-bleeding reduction
 };
 

@@ -19,6 +19,12 @@ class RTSDFSettings(bpy.types.PropertyGroup):
                 "Reference: exact shadow rays through the scene's BVHs towards a random point of each light, "
                 "averaging to the exact soft shadow over the samples (slow)")),
         description="Where shadows come from; all methods share the same shading")
+    exact_rays: IntProperty(
+        name="Exact Rays", default=4, min=0, max=64,
+        description="RTSDF methods: where the field cannot tell lit from shadowed with Epsilon to spare (penumbrae, "
+                    "contact, leaf cards and walls thinner than a voxel), this many rays per light and sample through "
+                    "the meshes decide instead: shadows converge to the exact ones over the samples. 0: the field's "
+                    "cone estimate everywhere, as in the paper (no noise while playing, less accurate)")
     shadow_map_size: IntProperty(
         name="Shadow Map Size", default=1024, min=64, max=4096,
         description="CSM + EVSM: texels per side of each cascade (sun), spot light view or cube face")

@@ -28,7 +28,8 @@ class RTSDF_PT_settings(bpy.types.Panel):
         settings = context.scene.rtsdf
         sections = (("Resolution", ("coarse_resolution", "fine_resolution", "field_budget_mb")),
                     ("Fine SDF", ("beta", "trace_band", "decay", "rays_per_texel")),
-                    ("Shadows", ("shadow_method", "shadow_epsilon", "shadow_max_steps", "max_step", "shadow_map_size")),
+                    ("Shadows", ("shadow_method", "exact_rays", "shadow_epsilon", "shadow_max_steps", "max_step",
+                                 "shadow_map_size")),
                     ("Render", ("samples", "sdf_updates")),
                     ("Viewport", ("viewport_samples", "viewport_scale", "viewport_interleave", "viewport_quick_first_frame")))
         for heading, names in sections:

@@ -28,7 +28,7 @@ class ShadePass {
   // count (outside a command buffer: a new image is set up by a submission).
   void resize(glm::ivec2 size, int lights);
   // `shadow_maps`: only with push.visibility.x == kVisibilityShadowMaps,
-  // `rays` (the shadow casters' BVHs) only with kVisibilityRayTraced (null:
+  // `rays` (the shadow casters' BVHs) only with kVisibilityRayTraced or kVisibilityHybrid (null:
   // placeholders are bound in their place; with no rays, nothing blocks). `march_sky`: the world
   // light is marched (it has some colour and the method is an SDF's).
   // `share_lights` (SDF methods only): the lights' visibility too is marched
@@ -58,7 +58,7 @@ class ShadePass {
   Passes& passes_for(uint32_t mode, bool share_lights);
 
   const vk::Context& context_;
-  std::array<Passes, 4> passes_;
+  std::array<Passes, 5> passes_;
   vk::Image no_shadow_atlas_;   // 1 texel
   vk::Buffer no_shadow_tiles_;  // one tile, and one light's empty range (also stands in for the BVHs)
   vk::Buffer no_rays_;          // a BVH node with no instance: nothing to hit

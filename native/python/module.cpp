@@ -163,6 +163,7 @@ rtsdf::RenderSettings settings_of(const py::dict& settings_desc) {
   settings.shadow_method = rtsdf::parse_shadow_method(
       get<std::string>(settings_desc, "shadow_method", rtsdf::shadow_method_name(settings.shadow_method)));
   settings.shadow_map_size = get<int>(settings_desc, "shadow_map_size", settings.shadow_map_size);
+  settings.exact_rays = get<int>(settings_desc, "exact_rays", settings.exact_rays);
   settings.coarse_resolution = get<int>(settings_desc, "coarse_resolution", settings.coarse_resolution);
   settings.fine_resolution = get<int>(settings_desc, "fine_resolution", settings.fine_resolution);
   settings.beta = get<float>(settings_desc, "beta", settings.beta);

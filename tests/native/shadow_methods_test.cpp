@@ -108,6 +108,7 @@ class ShadowMethodsTest : public testing::VulkanTest, public ::testing::WithPara
 class ShadowMapsTest : public testing::VulkanTest {};
 class RtOnlyTest : public testing::VulkanTest {};
 class RayTracedTest : public testing::VulkanTest {};
+class ExactRaysTest : public testing::VulkanTest {};
 
 // tilted_sun(): the shadow's centre is at x = 1, its far edge (half the sun
 // hidden) near x = 1.69.
@@ -189,16 +190,19 @@ void check_local_light_shadow(LightType type, size_t tiles) {
 TEST_F(ShadowMapsTest, SphereShadowUnderSpot) { check_local_light_shadow(LightType::Spot, 1); }
 TEST_F(ShadowMapsTest, SphereShadowUnderPointLightCube) { check_local_light_shadow(LightType::Point, 6); }
 
-// raytraced with 256 samples: the sun's and a spherical light's soft shadows
-// along y = 0 are the analytic ones up to the noise of 256 rays a pixel
-// (standard deviation at most 0.5 / 16 = 0.031; pixels are 1/16 wide, and
-// the profile is sampled at their centres), on the ground beside the
-// sphere. Here no field or map quantizes anything: what is left of any
-// method's error against it is its visibility.
-TEST_F(RayTracedTest, SoftShadowsConvergeToTheAnalyticOnes) {
-  GpuScene scene(context(), sphere_over_ground());
-  RenderSettings settings = small_settings(ShadowMethod::RayTraced);
-  settings.samples = 256;
+// raytraced with 256 samples, and rtsdf with 4 exact rays a frame over 64
+// (where its field is not sure: the whole penumbra here): the sun's and a
+// spherical light's soft shadows along y = 0 are the analytic ones up to the
+// noise of 256 rays a pixel (standard deviation at most 0.5 / 16 = 0.031;
+// pixels are 1/16 wide, and the profile is sampled at their centres), on the
+// ground beside the sphere. Here no field or map quantizes anything: what is
+// left of any method's error against it is its visibility; for the hybrid,
+// a pixel its field calls lit or shadowed wrongly would stand out by far more.
+void check_converges_to_analytic(ShadowMethod method, int samples, int exact_rays) {
+  GpuScene scene(testing::VulkanTest::context(), sphere_over_ground());
+  RenderSettings settings = small_settings(method);
+  settings.samples = samples;
+  settings.exact_rays = exact_rays;
   const Light sun = tilted_sun();
   Light point;
   point.type = LightType::Point;
@@ -225,10 +229,54 @@ TEST_F(RayTracedTest, SoftShadowsConvergeToTheAnalyticOnes) {
       }
       if (std::abs(rendered(x) - exact) > worst) worst = std::abs(rendered(x) - exact), worst_x = x;
     }
-    std::printf("raytraced, %s: largest |rendered - exact| along y = 0: %.3f at x = %.3f\n",
-                light.type == LightType::Sun ? "sun" : "point light", worst, worst_x);
+    std::printf("%s (exact rays %d), %s: largest |rendered - exact| along y = 0: %.3f at x = %.3f\n",
+                shadow_method_name(method), exact_rays, light.type == LightType::Sun ? "sun" : "point light", worst,
+                worst_x);
     EXPECT_LT(worst, 0.13) << "four standard deviations of 256 rays";
   }
+}
+
+TEST_F(RayTracedTest, SoftShadowsConvergeToTheAnalyticOnes) { check_converges_to_analytic(ShadowMethod::RayTraced, 256, 0); }
+TEST_F(ExactRaysTest, SoftShadowsConvergeToTheAnalyticOnes) { check_converges_to_analytic(ShadowMethod::Rtsdf, 64, 4); }
+
+// Leaf cards: a tilted row of small open quads over the ground, lit by a
+// low sun. A card's field is a slab a voxel thick whichever way it is turned,
+// too thin for the cone march to tell how much of the sun it hides (pale
+// shadows on a tree's crown); with exact rays where the field is unsure,
+// rtsdf's shadow is raytraced's, up to their noise (of the rays, and of the
+// edge pixels' coverage by the frames' sub-pixel jitter: 64 frames or more).
+TEST_F(ExactRaysTest, LeafCardShadowsAreTheRayTracedOnes) {
+  Scene scene;
+  scene.meshes.push_back(reference::sheet({-20, -20}, {20, 20}, 0.0f));
+  scene.instances.push_back({0, glm::mat4(1.0f), glm::vec3(0.8f)});
+  for (int i = 0; i < 6; ++i) {
+    scene.meshes.push_back(reference::sheet({-0.12f, -0.12f}, {0.12f, 0.12f}, 0.0f));
+    const glm::mat4 place = glm::translate(glm::mat4(1.0f), glm::vec3(-1.2f + 0.4f * i, 0.3f * (i % 3) - 0.3f, 0.6f));
+    const glm::mat4 turn = glm::rotate(glm::mat4(1.0f), 0.35f * float(i), glm::normalize(glm::vec3(1, 1, 0)));
+    scene.instances.push_back({uint32_t(i + 1), place * turn, glm::vec3(0.8f)});
+  }
+  GpuScene gpu_scene(context(), scene);
+  Light sun = tilted_sun();
+  sun.sun_angle = float(2.0 * M_PI / 180.0);
+  auto render = [&](ShadowMethod method, int samples, int exact_rays) {
+    RenderSettings settings = small_settings(method);
+    settings.samples = samples;
+    settings.exact_rays = exact_rays;
+    return shared_renderer().render(gpu_scene, top_view(), {sun}, glm::vec3(0.0f), kSize, kSize, settings).shadow;
+  };
+  const std::vector<float> exact = render(ShadowMethod::RayTraced, 256, 0);
+  auto error = [&](const std::vector<float>& shadow) {  // mean |shadow - exact| where exact shows a shadow
+    double sum = 0.0;
+    int count = 0;
+    for (size_t i = 0; i < exact.size(); ++i)
+      if (exact[i] < 0.9f) sum += std::abs(shadow[i] - exact[i]), ++count;
+    EXPECT_GT(count, 40) << "the cards cast shadows in view";
+    return sum / std::max(count, 1);
+  };
+  const double cone = error(render(ShadowMethod::Rtsdf, 64, 0)), hybrid = error(render(ShadowMethod::Rtsdf, 64, 4));
+  std::printf("leaf cards: mean |visibility - raytraced's| in their shadows: cone march %.3f, exact rays %.3f\n", cone,
+              hybrid);
+  EXPECT_LT(hybrid, 0.03) << "exact rays where the field is unsure";
 }
 
 // rt_only's fine SDF: every texel of the grid is listed each frame (no band,
