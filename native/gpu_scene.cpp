@@ -154,14 +154,14 @@ void GpuScene::upload_bottom_levels() {
     blas_roots_.push_back(node_offset);
     const std::vector<gpu::BvhNode> mesh_nodes = gpu_nodes(bvh, node_offset, triangle_offset);
     nodes.insert(nodes.end(), mesh_nodes.begin(), mesh_nodes.end());
-    const std::vector<gpu::WindingDipole> mesh_dipoles = winding_dipoles(bvh, mesh, pieces_[m].thickness);
+    const std::vector<gpu::WindingDipole> mesh_dipoles = winding_dipoles(bvh, mesh, pieces_[m]);
     dipoles.insert(dipoles.end(), mesh_dipoles.begin(), mesh_dipoles.end());
     // The first corner's w is the thickness of the triangle's piece (0: a
-    // sheet), the second's -1 where the piece is inside out, see mesh_topology.h.
+    // sheet), the second's -1 where the triangle faces into its piece, see mesh_topology.h.
     for (uint32_t t : bvh.order)
       for (int k = 0; k < 3; ++k)
         corners.emplace_back(mesh.positions[mesh.indices[3 * t + k]],
-                             k == 0 ? pieces_[m].thickness[t] : k == 1 && pieces_[m].inside_out[t] ? -1.0f : 1.0f);
+                             k == 0 ? pieces_[m].thickness[t] : k == 1 && pieces_[m].faces_in[t] ? -1.0f : 1.0f);
   }
   rays_.bottom_nodes = storage(context_, nodes);
   rays_.triangles = storage(context_, corners);

@@ -38,7 +38,7 @@ class GpuScene {
     vk::Buffer top_nodes;
     vk::Buffer instances;
     vk::Buffer bottom_nodes;
-    vk::Buffer triangles;  // three corners per triangle, in bottom-level leaf order; w of the first: piece thickness, of the second: -1 for an inside-out piece
+    vk::Buffer triangles;  // three corners per triangle, in bottom-level leaf order; w of the first: piece thickness, of the second: -1 where it faces into its piece
     vk::Buffer winding_dipoles;
     RayTargets targets() const { return {top_nodes, instances, bottom_nodes, triangles, winding_dipoles}; }
   };

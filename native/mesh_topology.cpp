@@ -1,6 +1,7 @@
 #include "mesh_topology.h"
 
 #include <algorithm>
+#include <array>
 #include <limits>
 #include <numeric>
 #include <unordered_map>
@@ -54,10 +55,12 @@ Pieces mesh_pieces(const Mesh& mesh) {
     vertex_id[v] = welded.emplace(Cell(q), uint32_t(welded.size())).first->second;
   }
 
-  // Each undirected edge: how many triangles use it, and the first of them.
+  // Each undirected edge: how many triangles use it, and the first two of
+  // them with the way each runs along it (from the lower vertex id or not).
   struct EdgeUse {
     uint32_t count = 0;
-    uint32_t triangle = 0;
+    uint32_t triangle[2] = {0, 0};
+    bool forward[2] = {false, false};
   };
   std::unordered_map<uint64_t, EdgeUse> edges;
   edges.reserve(3 * triangles);
@@ -66,19 +69,65 @@ Pieces mesh_pieces(const Mesh& mesh) {
     for (int k = 0; k < 3; ++k) {
       uint32_t a = vertex_id[mesh.indices[3 * t + k]], b = vertex_id[mesh.indices[3 * t + (k + 1) % 3]];
       if (a == b) continue;  // a degenerate edge joins nothing
-      if (a > b) std::swap(a, b);
+      const bool forward = a < b;
+      if (!forward) std::swap(a, b);
       EdgeUse& use = edges[(uint64_t(a) << 32) | b];
-      if (use.count++ == 0)
-        use.triangle = t;
-      else
-        pieces.join(t, use.triangle);
+      if (use.count < 2) use.triangle[use.count] = t, use.forward[use.count] = forward;
+      if (use.count++ > 0) pieces.join(t, use.triangle[0]);
     }
+
+  // Orientation, made coherent: across an edge two triangles share (and only
+  // two), a coherent surface runs the edge once each way. Exports mix the
+  // two (a mirrored part merged, faces flipped by hand), and a box with half
+  // its triangles turned has no volume and no inside. Coherent patches grow
+  // across such edges from a seed; each keeps the way most of its area
+  // already faces, so a coherent mesh keeps every triangle as it is.
+  constexpr uint32_t kNone = ~0u;
+  struct Neighbour {
+    uint32_t triangle = kNone;
+    bool same_way = false;  // coherent as stored
+  };
+  std::vector<std::array<Neighbour, 3>> neighbours(triangles);
+  for (const auto& [key, use] : edges) {
+    if (use.count != 2) continue;
+    const bool same_way = use.forward[0] != use.forward[1];
+    for (int side = 0; side < 2; ++side)
+      for (Neighbour& n : neighbours[use.triangle[side]])
+        if (n.triangle == kNone) {
+          n = {use.triangle[1 - side], same_way};
+          break;
+        }
+  }
+  auto triangle_area = [&](uint32_t t) {
+    const glm::dvec3 a(mesh.positions[mesh.indices[3 * t]]), b(mesh.positions[mesh.indices[3 * t + 1]]);
+    const glm::dvec3 c(mesh.positions[mesh.indices[3 * t + 2]]);
+    return 0.5 * glm::length(glm::cross(b - a, c - a));
+  };
+  std::vector<int8_t> turn(triangles, 0);  // +1: as stored, -1: reversed (0: not reached yet)
+  std::vector<uint32_t> patch;
+  for (uint32_t seed = 0; seed < triangles; ++seed) {
+    if (turn[seed] != 0) continue;
+    turn[seed] = 1;
+    patch.assign(1, seed);
+    double kept = 0.0, reversed = 0.0;
+    for (size_t i = 0; i < patch.size(); ++i) {
+      const uint32_t t = patch[i];
+      (turn[t] > 0 ? kept : reversed) += triangle_area(t);
+      for (const Neighbour& n : neighbours[t])
+        if (n.triangle != kNone && turn[n.triangle] == 0) {
+          turn[n.triangle] = int8_t(n.same_way ? turn[t] : -turn[t]);
+          patch.push_back(n.triangle);
+        }
+    }
+    if (reversed > kept)
+      for (uint32_t t : patch) turn[t] = int8_t(-turn[t]);
+  }
 
   std::vector<uint8_t> has_boundary(triangles, 0);
   for (const auto& [key, use] : edges)
-    if (use.count == 1) has_boundary[pieces.find(use.triangle)] = 1;
+    if (use.count == 1) has_boundary[pieces.find(use.triangle[0])] = 1;
   // Volume (divergence theorem, about the mesh's corner for precision), area
-  // and vector area (the sum of area-weighted normals) per piece.
+  // and vector area (the sum of area-weighted normals) per piece, oriented coherently.
   std::vector<double> volume(triangles, 0.0), area(triangles, 0.0);
   std::vector<glm::dvec3> vector_area(triangles, glm::dvec3(0.0));
   for (uint32_t t = 0; t < triangles; ++t) {
@@ -87,9 +136,9 @@ Pieces mesh_pieces(const Mesh& mesh) {
     const glm::dvec3 c = glm::dvec3(mesh.positions[mesh.indices[3 * t + 2]] - lo);
     const uint32_t piece = pieces.find(t);
     const glm::dvec3 normal = 0.5 * glm::cross(b - a, c - a);
-    volume[piece] += glm::dot(a, glm::cross(b, c)) / 6.0;
+    volume[piece] += double(turn[t]) * glm::dot(a, glm::cross(b, c)) / 6.0;
     area[piece] += glm::length(normal);
-    vector_area[piece] += normal;
+    vector_area[piece] += double(turn[t]) * normal;
   }
   Pieces result{std::vector<float>(triangles), std::vector<uint8_t>(triangles)};
   for (uint32_t t = 0; t < triangles; ++t) {
@@ -97,7 +146,8 @@ Pieces mesh_pieces(const Mesh& mesh) {
     result.thickness[t] = encloses_volume(has_boundary[piece] != 0, vector_area[piece], area[piece])
                               ? float(2.0 * std::abs(volume[piece]) / area[piece])
                               : 0.0f;
-    result.inside_out[t] = volume[piece] < 0.0 ? 1 : 0;
+    // (a piece with negative volume is turned inside out as a whole)
+    result.faces_in[t] = (turn[t] < 0) != (volume[piece] < 0.0) ? 1 : 0;
   }
   return result;
 }

@@ -21,12 +21,14 @@ namespace rtsdf {
 // only one triangle along cracks and T-junctions make no hole: the piece's
 // vector area tells, see mesh_topology.cpp).
 //
-// And whether that piece is turned inside out: its normals point in (a
-// negative volume), as a part mirrored in a CAD export can be. Its inside is
-// where rays meet its front faces.
+// And whether the triangle faces into its piece: the piece is turned
+// inside out (a negative volume, as a part mirrored in a CAD export can be),
+// or the triangle is turned against its neighbours (orientation is made
+// coherent across edges that two triangles share, see mesh_topology.cpp).
+// Such a triangle counts as if its corners ran the other way round.
 struct Pieces {
   std::vector<float> thickness;
-  std::vector<uint8_t> inside_out;
+  std::vector<uint8_t> faces_in;
 };
 Pieces mesh_pieces(const Mesh& mesh);
 

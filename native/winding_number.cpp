@@ -4,8 +4,7 @@
 
 namespace rtsdf {
 
-std::vector<gpu::WindingDipole> winding_dipoles(const Bvh& bvh, const Mesh& mesh,
-                                                const std::vector<float>& piece_thickness) {
+std::vector<gpu::WindingDipole> winding_dipoles(const Bvh& bvh, const Mesh& mesh, const Pieces& pieces) {
   struct Sum {
     glm::dvec3 normal{0.0};
     glm::dvec3 weighted_centre{0.0};  // area * centre, summed
@@ -19,12 +18,13 @@ std::vector<gpu::WindingDipole> winding_dipoles(const Bvh& bvh, const Mesh& mesh
     const BvhBuildNode& node = bvh.nodes[n];
     Sum& sum = sums[n];
     const bool leaf = node.count > 0;
-    auto counts = [&](uint32_t i) { return piece_thickness[bvh.order[i]] > 0.0f; };
+    auto counts = [&](uint32_t i) { return pieces.thickness[bvh.order[i]] > 0.0f; };
     if (leaf) {
       for (uint32_t i = node.first; i < node.first + node.count; ++i) {
         if (!counts(i)) continue;
         const uint32_t t = bvh.order[i];
-        const glm::dvec3 area_vector = 0.5 * glm::cross(corner(t, 1) - corner(t, 0), corner(t, 2) - corner(t, 0));
+        const glm::dvec3 area_vector = (pieces.faces_in[t] ? -0.5 : 0.5) *
+                                       glm::cross(corner(t, 1) - corner(t, 0), corner(t, 2) - corner(t, 0));
         const double area = glm::length(area_vector);
         sum.normal += area_vector;
         sum.weighted_centre += area * (corner(t, 0) + corner(t, 1) + corner(t, 2)) / 3.0;
@@ -55,16 +55,16 @@ std::vector<gpu::WindingDipole> winding_dipoles(const Bvh& bvh, const Mesh& mesh
   return dipoles;
 }
 
-double winding_number(const Mesh& mesh, const std::vector<float>& piece_thickness, glm::vec3 p) {
+double winding_number(const Mesh& mesh, const Pieces& pieces, glm::vec3 p) {
   double solid_angle = 0.0;
   for (size_t t = 0; t < mesh.triangle_count(); ++t) {
-    if (!(piece_thickness[t] > 0.0f)) continue;
+    if (!(pieces.thickness[t] > 0.0f)) continue;
     // Van Oosterom and Strackee's formula for the triangle's signed solid angle.
     const glm::dvec3 a = glm::dvec3(mesh.positions[mesh.indices[3 * t]] - p);
     const glm::dvec3 b = glm::dvec3(mesh.positions[mesh.indices[3 * t + 1]] - p);
     const glm::dvec3 c = glm::dvec3(mesh.positions[mesh.indices[3 * t + 2]] - p);
     const double la = glm::length(a), lb = glm::length(b), lc = glm::length(c);
-    solid_angle += 2.0 * std::atan2(glm::dot(a, glm::cross(b, c)),
+    solid_angle += (pieces.faces_in[t] ? -2.0 : 2.0) * std::atan2(glm::dot(a, glm::cross(b, c)),
                                     la * lb * lc + glm::dot(a, b) * lc + glm::dot(b, c) * la + glm::dot(c, a) * lb);
   }
   return solid_angle / (4.0 * M_PI);

@@ -15,18 +15,19 @@
 #include <vector>
 
 #include "bvh.h"
+#include "mesh_topology.h"
 #include "scene.h"
 #include "shaders/shared.h"
 
 namespace rtsdf {
 
 // One dipole per node of `bvh` (build_mesh_bvh(mesh)), over the triangles
-// whose piece_thickness is above 0.
-std::vector<gpu::WindingDipole> winding_dipoles(const Bvh& bvh, const Mesh& mesh,
-                                                const std::vector<float>& piece_thickness);
+// of pieces with a thickness (mesh_pieces(mesh)), each turned to face out.
+std::vector<gpu::WindingDipole> winding_dipoles(const Bvh& bvh, const Mesh& mesh, const Pieces& pieces);
 
-// The winding number at p of the triangles whose piece_thickness is above 0,
-// summed exactly (the reference the dipoles approximate).
-double winding_number(const Mesh& mesh, const std::vector<float>& piece_thickness, glm::vec3 p);
+// The winding number at p of the same triangles, summed exactly (the
+// reference the dipoles approximate): about 1 inside a piece, whichever way
+// its triangles were stored.
+double winding_number(const Mesh& mesh, const Pieces& pieces, glm::vec3 p);
 
 }  // namespace rtsdf

@@ -68,7 +68,7 @@ void main() {
       if (thickness < pc.fine_grid.w)
         nearest_slab = min(nearest_slab, distance - slab_half_thickness(thickness));
       else
-        hits += front != piece_inside_out(triangle) ? vec2(1.0, 0.0) : vec2(0.0, 1.0);
+        hits += front != faces_in(triangle) ? vec2(1.0, 0.0) : vec2(0.0, 1.0);
     }
   }
 

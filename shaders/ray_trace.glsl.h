@@ -129,9 +129,9 @@ float piece_thickness(uint triangle, uint instance) {
   return triangle_corners[3u * triangle].w * scale;
 }
 
-// Whether a hit triangle's piece is turned inside out (normals pointing in):
-// the second corner's w is -1 then.
-bool piece_inside_out(uint triangle) { return triangle_corners[3u * triangle + 1u].w < 0.0; }
+// Whether a hit triangle faces into its piece (the piece is inside out, or
+// the triangle turned against its neighbours): the second corner's w is -1 then.
+bool faces_in(uint triangle) { return triangle_corners[3u * triangle + 1u].w < 0.0; }
 
 // World-space distance from p to a triangle the ray tracer hit.
 float distance_to_hit(vec3 p, uint triangle, uint instance) {

@@ -32,11 +32,11 @@ float mesh_winding_number(uint root, vec3 p) {
     }
     for (uint i = node.first; i < node.first + node.count; ++i) {
       if (!(triangle_corners[3u * i].w > 0.0)) continue;  // a sheet's triangle
-      // Van Oosterom and Strackee: the triangle's signed solid angle.
+      // Van Oosterom and Strackee: the triangle's signed solid angle (turned to face out).
       vec3 a = triangle_corners[3u * i].xyz - p, b = triangle_corners[3u * i + 1u].xyz - p;
       vec3 c = triangle_corners[3u * i + 2u].xyz - p;
       float la = length(a), lb = length(b), lc = length(c);
-      w += 2.0 * kInvFourPi *
+      w += 2.0 * kInvFourPi * triangle_corners[3u * i + 1u].w *
            atan(dot(a, cross(b, c)), la * lb * lc + dot(a, b) * lc + dot(b, c) * la + dot(c, a) * lb);
     }
   }
@@ -45,8 +45,7 @@ float mesh_winding_number(uint root, vec3 p) {
 
 // Whether p lies inside some placed mesh: |w| > 1/2 for one of the instances
 // whose bounds hold it (outside its bounds a mesh's volumes have w = 0).
-// Instances are taken one by one, so that one turned inside out, or mirrored,
-// still counts.
+// Instances are taken one by one, so that a mirrored one still counts.
 bool inside_scene(vec3 p) {
   uint stack[RTSDF_STACK];
   int top = 0;
