@@ -21,6 +21,14 @@ double ms_since(Clock::time_point start) {
 // OpenGL clip space (y up, z in [-1, 1]) -> Vulkan's (y down, z in [0, 1]).
 const glm::mat4 kGlToVulkan(1, 0, 0, 0, 0, -1, 0, 0, 0, 0, 0.5f, 0, 0, 0, 0.5f, 1);
 
+// Temporal reuse (shaders/temporal_resolve.comp): history is clipped to the
+// new frame's neighbourhood mean +- this many standard deviations; where a
+// moved caster's shadow may have moved it stands for at most this many
+// samples; and a reprojected surface is the same one within this share of its depth.
+constexpr float kTemporalClip = 1.25f;
+constexpr float kMovedShadowSamples = 3.0f;
+constexpr float kReprojectedDepthTolerance = 0.01f;
+
 float halton(uint32_t index, uint32_t base) {
   float f = 1.0f, r = 0.0f;
   for (uint32_t i = index + 1; i > 0; i /= base) f /= float(base), r += f * float(i % base);
@@ -106,6 +114,7 @@ Renderer::Renderer(const vk::Context& context)
       fine_(context),
       gbuffer_(context),
       shade_(context),
+      temporal_(context),
       object_fields_(context),
       world_field_(context),
       shading_timer_(context, 4),
@@ -176,6 +185,7 @@ void Renderer::rebuild_sdfs(GpuScene& scene, const RenderSettings& settings) {
   has_casters_ = !scene.shadow_casters().empty();
   fine_updates_ = 0;
   const GpuScene::Changes changes = scene.take_changes();
+  last_changes_ = changes;
   changed_region_.reset();
   stats_ = {};
   scene_ = &scene;
@@ -274,11 +284,23 @@ void Renderer::begin(GpuScene& scene, const Camera& camera, const std::vector<Li
                                vk::Buffer::Access::HostVisible);
   gbuffer_.resize(width, height);
   shade_.resize(glm::ivec2(width, height), light_count_);
-  if (width != width_ || height != height_ || !accum_color_.handle()) {
+  // History: the accumulation so far, if it drew this scene at this size.
+  has_history_ = settings.temporal_reuse && frame_ > 0 && accum_color_.handle() && width == width_ &&
+                 height == height_ && drawn_scene_id_ == scene.id() &&
+                 drawn_transforms_.size() == scene.instances().size();
+  const bool size_changed = width != width_ || height != height_ || !accum_color_.handle();
+  if (size_changed || (settings.temporal_reuse && !history_color_.handle())) {
     const VkImageUsageFlags usage = VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
-    accum_color_ = vk::Image::plane(context_, width, height, VK_FORMAT_R32G32B32A32_SFLOAT, usage);
-    accum_passes_ = vk::Image::plane(context_, width, height, VK_FORMAT_R32G32_SFLOAT, usage);
-    vk::make_general(context_, {&accum_color_, &accum_passes_});
+    std::vector<vk::Image*> planes = {&accum_color_, &accum_passes_};
+    if (settings.temporal_reuse) planes.insert(planes.end(), {&history_color_, &history_passes_, &resolved_color_, &resolved_passes_});
+    for (vk::Image* plane : planes) {
+      *plane = vk::Image::plane(context_, width, height, VK_FORMAT_R32G32B32A32_SFLOAT, usage);
+      vk::make_general(context_, {plane});
+    }
+  }
+  if (has_history_) {
+    std::swap(history_color_, accum_color_);
+    std::swap(history_passes_, accum_passes_);
   }
   width_ = width;
   height_ = height;
@@ -293,6 +315,26 @@ void Renderer::begin(GpuScene& scene, const Camera& camera, const std::vector<Li
     frame_data_.sky_blockers[2 * i + 1] = glm::vec4(sky_blockers_[i].hi, 0.0f);
   }
   world_to_clip_ = kGlToVulkan * camera.projection * camera.world_to_view;
+  // Motion since the last accumulation: its camera, and each instance's transform then.
+  frame_data_.steady_world_to_clip = world_to_clip_;
+  const gpu::FrameData& drawn = has_history_ ? drawn_frame_ : frame_data_;
+  frame_data_.previous_world_to_clip = has_history_ ? drawn.steady_world_to_clip : world_to_clip_;
+  frame_data_.previous_camera_position = drawn.camera_position;
+  frame_data_.previous_camera_forward = drawn.camera_forward;
+  std::vector<glm::mat4> transforms;
+  for (const Instance& instance : scene.instances()) transforms.push_back(instance.object_to_world);
+  const std::vector<glm::mat4>& previous = has_history_ ? drawn_transforms_ : transforms;
+  previous_transforms_ = vk::upload_buffer(context_, previous.data(), previous.size() * sizeof(glm::mat4),
+                                           VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
+  // What moved among the casters (their shadows moved with them): all of it
+  // when the casters themselves were swapped.
+  if (has_history_ && scene_changed && last_changes_ && (last_changes_->any || last_changes_->everything)) {
+    const Bounds region = last_changes_->everything ? scene.bounds() : last_changes_->region;
+    frame_data_.changed_lo = glm::vec4(region.lo, 1.0f);
+    frame_data_.changed_hi = glm::vec4(region.hi, 1.0f);
+  }
+  drawn_scene_id_ = scene.id();
+  drawn_transforms_ = std::move(transforms);
 
   // Visibility: the fields the march reads, or the shadow maps. Distances
   // along the march are in voxels of the field nearest each sample.
@@ -374,22 +416,35 @@ void Renderer::add_frame() {
   frame_data_.world_to_clip = shift * world_to_clip_;
   std::memcpy(frame_buffer_.mapped(), &frame_data_, sizeof frame_data_);
   push_.image = glm::ivec4(width_, height_, light_count_, frame_);
-  push_.march.w = 1.0f / float(frame_ + 1);
   const ShadowMapPass* shadow_maps = settings_.shadow_method == ShadowMethod::CsmEvsm ? shadow_maps_.get() : nullptr;
   const bool traces_rays =
       push_.visibility.x == gpu::kVisibilityRayTraced || push_.visibility.x == gpu::kVisibilityHybrid;
   const GpuScene::RayStructures* rays = traces_rays && has_casters_ ? &scene_->ray_structures() : nullptr;
   context_.submit_and_wait([&](VkCommandBuffer cmd) {
     shading_timer_.begin(cmd);
-    gbuffer_.record(cmd, *scene_, frame_buffer_, field_voxels_);
+    gbuffer_.record(cmd, *scene_, frame_buffer_, field_voxels_, previous_transforms_);
     shading_timer_.mark(cmd, "gbuffer");
     const bool march_sky = push_.visibility.x != gpu::kVisibilityShadowMaps &&
                            glm::dot(glm::vec3(frame_data_.ambient), glm::vec3(frame_data_.ambient)) > 0.0f;
     const bool share_lights = settings_.quick_first_frame && frame_ == 0;
     shade_.record(cmd, gbuffer_, march_, shadow_maps, rays, light_buffer_, frame_buffer_, accum_color_, accum_passes_,
                   march_sky, share_lights, push_, &shading_timer_);
+    if (has_history_ && frame_ == 0) {
+      vk::memory_barrier(cmd, VK_ACCESS_SHADER_WRITE_BIT, VK_ACCESS_SHADER_READ_BIT,
+                         VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT);
+      gpu::TemporalPush temporal{};
+      temporal.image = glm::ivec4(width_, height_, light_count_, settings_.samples);
+      temporal.params = glm::vec4(kTemporalClip, kMovedShadowSamples, kReprojectedDepthTolerance, 0.0f);
+      temporal_.record(cmd, gbuffer_, accum_color_, accum_passes_, history_color_, history_passes_, frame_buffer_,
+                       light_buffer_, resolved_color_, resolved_passes_, temporal);
+    }
     shading_timer_.mark(cmd, "shade");
   });
+  if (has_history_ && frame_ == 0) {
+    std::swap(accum_color_, resolved_color_);
+    std::swap(accum_passes_, resolved_passes_);
+  }
+  drawn_frame_ = frame_data_;
   timings_.shade_ms += ms_since(shading);
   for (const vk::GpuTimer::Span& span : shading_timer_.read()) {
     (span.label == "gbuffer" ? timings_.gbuffer_gpu_ms : timings_.shade_gpu_ms) += span.ms;
@@ -397,6 +452,14 @@ void Renderer::add_frame() {
   }
   timings_.total_ms += ms_since(start);
   frame_++;
+}
+
+std::vector<glm::vec4> Renderer::read_motion() const {
+  const std::vector<float> values = read_plane<float>(context_, gbuffer_.motion(), 4);
+  std::vector<glm::vec4> motion(values.size() / 4);
+  for (size_t i = 0; i < motion.size(); ++i)
+    motion[i] = glm::vec4(values[4 * i], values[4 * i + 1], values[4 * i + 2], values[4 * i + 3]);
+  return motion;
 }
 
 RenderOutput Renderer::read(bool passes) const {
@@ -409,10 +472,18 @@ RenderOutput Renderer::read(bool passes) const {
   if (!accum_color_.handle()) return out;
   out.combined = read_plane<float>(context_, accum_color_, 4);
   if (passes) {
-    std::vector<float> both = read_plane<float>(context_, accum_passes_, 2);
-    out.depth.resize(size_t(width_) * height_);
-    out.shadow.resize(size_t(width_) * height_);
-    for (size_t i = 0; i < out.depth.size(); ++i) out.depth[i] = both[2 * i], out.shadow[i] = both[2 * i + 1];
+    std::vector<float> all = read_plane<float>(context_, accum_passes_, 4);
+    const size_t pixels = size_t(width_) * height_;
+    out.depth.resize(pixels);
+    out.shadow.resize(pixels);
+    out.samples.resize(pixels);
+    double sum = 0.0;
+    size_t covered = 0;
+    for (size_t i = 0; i < pixels; ++i) {
+      out.depth[i] = all[4 * i], out.shadow[i] = all[4 * i + 1], out.samples[i] = all[4 * i + 2];
+      if (out.combined[4 * i + 3] > 0.0f) sum += out.samples[i], ++covered;
+    }
+    out.effective_samples = covered ? sum / double(covered) : double(frame_);
   }
   return out;
 }

@@ -15,6 +15,7 @@
 #include "object_fields.h"
 #include "passes/gbuffer.h"
 #include "passes/shade.h"
+#include "passes/temporal.h"
 #include "passes/shadow_map.h"
 
 namespace rtsdf {
@@ -95,6 +96,11 @@ struct RenderSettings {
   // half the shading cost. The frames after it march every pixel, so an
   // image accumulated over many frames barely differs.
   bool quick_first_frame = false;
+  // Temporal reuse (the viewport during playback and edits): a begin() after
+  // a change carries the accumulation so far into the new one where it still
+  // shows the same surface (passes/temporal.h), standing for up to `samples`
+  // samples. Off: every begin() starts from nothing, as a final render must.
+  bool temporal_reuse = false;
 };
 
 // What the SDF methods did, for the stats a user sees.
@@ -132,6 +138,10 @@ struct RenderOutput {
   std::vector<float> combined;  // RGBA, rows top to bottom; alpha = coverage
   std::vector<float> depth;     // distance along the view axis; 1e10 where nothing is hit
   std::vector<float> shadow;    // direct light with shadows / without (1 where unlit or empty)
+  std::vector<float> samples;   // samples each pixel's mean stands for (history's included; with the passes)
+  // Their mean over the pixels that show a surface: the effective sample
+  // count of this frame (the frames since begin(), more with temporal reuse).
+  double effective_samples = 0.0;
   RenderTimings timings;
   RenderStats stats;
   int samples_done = 0;  // fewer than asked when stopped through Progress
@@ -177,6 +187,11 @@ class Renderer {
   const RenderStats& stats() const { return stats_; }
   // The accumulated image so far; the depth and shadow passes only if asked.
   RenderOutput read(bool passes = true) const;
+  // The last frame's G-buffer motion per pixel (rows top to bottom): xy = where
+  // its surface point was in the last accumulation's frame, from where it is
+  // now (normalized device coordinates), z = its depth from that camera, w =
+  // 1 where known (see shaders/gbuffer.frag). For inspection and tests.
+  std::vector<glm::vec4> read_motion() const;
   // The whole scene's fine SDF as the last frame left it (rtsdf_world,
   // rt_only; its grid is empty before the first update).
   const FineSdf& fine_sdf() const { return fine_; }
@@ -206,6 +221,7 @@ class Renderer {
   FineSdf fine_;
   GBufferPass gbuffer_;
   ShadePass shade_;
+  TemporalPass temporal_;
   std::unique_ptr<ShadowMapPass> shadow_maps_;  // made on first use of csm_evsm
   ObjectFields object_fields_;
   PackedField world_field_;            // the whole scene's, packed (the whole-scene methods)
@@ -235,7 +251,17 @@ class Renderer {
   vk::Buffer light_buffer_;
   vk::Buffer frame_buffer_;
   vk::Image accum_color_;
-  vk::Image accum_passes_;
+  vk::Image accum_passes_;  // x = depth, y = shadow, z = samples in the pixel's mean
+
+  // Temporal reuse: the last accumulation (history) while the first frame
+  // after a change is resolved into resolved_*, which then becomes accum_*.
+  vk::Image history_color_, history_passes_, resolved_color_, resolved_passes_;
+  bool has_history_ = false;      // this accumulation's first frame reprojects history
+  uint64_t drawn_scene_id_ = 0;   // the scene, transforms and camera the last accumulation drew
+  std::vector<glm::mat4> drawn_transforms_;
+  gpu::FrameData drawn_frame_{};
+  vk::Buffer previous_transforms_;  // per instance, for the G-buffer's motion
+  std::optional<GpuScene::Changes> last_changes_;  // taken by the last rebuild_sdfs
 };
 
 }  // namespace rtsdf

@@ -8,14 +8,19 @@
 layout(std430, binding = 0) readonly buffer Positions { float positions[]; };
 layout(std430, binding = 1) readonly buffer Frame { FrameData frame; };
 layout(std430, binding = 2) readonly buffer Normals { float normals[]; };
+layout(std430, binding = 3) readonly buffer PreviousTransforms { mat4 previous_transforms[]; };
 layout(push_constant) uniform Push { GBufferPush pc; };
 
 layout(location = 0) out vec3 v_world;
 layout(location = 1) out vec3 v_smooth_normal;  // (0,0,0) for flat meshes
+layout(location = 2) out vec4 v_steady_clip;    // this frame's clip position without the jitter
+layout(location = 3) out vec4 v_previous_clip;  // the same point of the mesh in the last frame
+layout(location = 4) out vec3 v_previous_world;
 
 void main() {
   uint v = uint(gl_VertexIndex);  // (the mesh's base vertex included)
-  v_world = (pc.object_to_world * vec4(positions[3u * v], positions[3u * v + 1u], positions[3u * v + 2u], 1.0)).xyz;
+  vec4 object = vec4(positions[3u * v], positions[3u * v + 1u], positions[3u * v + 2u], 1.0);
+  v_world = (pc.object_to_world * object).xyz;
   // Normals transform by the inverse transpose, here as the cofactor matrix
   // (the inverse transpose times the determinant) with the determinant's sign:
   // the same directions without a matrix inverse per vertex.
@@ -24,4 +29,8 @@ void main() {
   float orientation = dot(m[0], cofactor[0]) < 0.0 ? -1.0 : 1.0;
   v_smooth_normal = orientation * (cofactor * vec3(normals[3u * v], normals[3u * v + 1u], normals[3u * v + 2u]));
   gl_Position = frame.world_to_clip * vec4(v_world, 1.0);
+  // (a deforming mesh's vertices are taken where they are now: its motion is its transform's)
+  v_previous_world = (previous_transforms[pc.instance] * object).xyz;
+  v_steady_clip = frame.steady_world_to_clip * vec4(v_world, 1.0);
+  v_previous_clip = frame.previous_world_to_clip * vec4(v_previous_world, 1.0);
 }

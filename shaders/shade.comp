@@ -22,7 +22,7 @@
 layout(local_size_x = 8, local_size_y = 8) in;
 #include "shade_inputs.glsl.h"  // the G-buffer, the frame, the lights, the fields, the march, the quad samples
 layout(binding = 6, rgba32f) uniform image2D accum_color;   // rgb = Combined, a = coverage
-layout(binding = 7, rg32f) uniform image2D accum_passes;    // x = Depth, y = Shadow (visibility)
+layout(binding = 7, rgba32f) uniform image2D accum_passes;  // x = Depth, y = Shadow (visibility), z = samples in
 layout(binding = 8, rgba32f) uniform readonly image2D shadow_atlas;  // EVSM moments (csm_evsm)
 layout(std430, binding = 9) readonly buffer ShadowTiles { ShadowTile shadow_tiles[]; };
 layout(std430, binding = 10) readonly buffer ShadowLights { ShadowLightTiles shadow_lights[]; };
@@ -175,9 +175,12 @@ void main() {
     }
     shadow = unshadowed > 0.0 ? lit / unshadowed : 1.0;
   }
-  float w = pc.march.w;  // 1 / (frame + 1): a running mean over accumulation frames
+  // A running mean over the samples in each pixel: the accumulation frames
+  // since begin(), and the reprojected history's (temporal_resolve.comp).
   vec4 previous_color = pc.image.w == 0 ? vec4(0.0) : imageLoad(accum_color, pixel);
   vec4 previous_passes = pc.image.w == 0 ? vec4(0.0) : imageLoad(accum_passes, pixel);
+  float samples = previous_passes.z, w = 1.0 / (samples + 1.0);
   imageStore(accum_color, pixel, mix(previous_color, vec4(color, position.w > 0.0 ? 1.0 : 0.0), w));
-  imageStore(accum_passes, pixel, vec4(position.w > 0.0 ? depth : 1e10, mix(previous_passes.y, shadow, w), 0.0, 0.0));
+  imageStore(accum_passes, pixel,
+             vec4(position.w > 0.0 ? depth : 1e10, mix(previous_passes.y, shadow, w), samples + 1.0, 0.0));
 }

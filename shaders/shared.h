@@ -116,13 +116,31 @@ struct FrameData {
   // Flat receivers left out of the SDF that still hide the sky (see
   // sky_blockers in native/shadow_casters.h): lo, hi of each world box.
   vec4 sky_blockers[2 * kMaxSkyBlockers];
+  // Temporal reuse (shaders/temporal_resolve.comp): this frame's projection
+  // without the jitter, and the last frame's camera (its projection without
+  // jitter, position and view direction), for the G-buffer's motion.
+  mat4 steady_world_to_clip;
+  mat4 previous_world_to_clip;
+  vec4 previous_camera_position;
+  vec4 previous_camera_forward;
+  // World box of what moved or deformed among the shadow casters since the
+  // last frame (the union of their old and new bounds; lo.w = 0: nothing).
+  vec4 changed_lo, changed_hi;
 };
 
 struct GBufferPush {
   mat4 object_to_world;
   vec4 base_color;
   float field_voxel;  // world size of a voxel of the field holding this surface (0: only a receiver, in no field)
-  uint pad0, pad1, pad2;
+  uint instance;      // its index: previous_transforms[instance] placed it in the last frame
+  uint pad1, pad2;
+};
+
+// The temporal resolve: history reprojected into the first frame after a change.
+struct TemporalPush {
+  ivec4 image;    // x, y = size in pixels, z = light count, w = the most samples history may stand for
+  vec4 params;    // x = variance clip width (standard deviations), y = the most history samples where a moved
+                  // caster's shadow may have moved, z = relative depth a reprojected surface may differ by
 };
 
 // What the shading's visibility reads (ShadePush::visibility.x).
@@ -191,7 +209,7 @@ struct ShadePush {
   uvec4 visibility;   // x = kVisibility*, y = shadow-map tile size (texels), z = field instances (0: nothing
                       // casts shadows), w = shadow_max_steps
   vec4 march;         // in voxels of the field nearest each sample: x = shadow_epsilon, y = max_step;
-                      // z = the receiver's clearance at the start (voxels of its own field); w = weight of this frame
+                      // z = the receiver's clearance at the start (voxels of its own field)
   vec4 field_reach;   // x = the longest step the march can take anywhere (world): max_step voxels of the coarsest field
   vec4 surface;       // x = a caster's march origin, off its surface along the normal (voxels of its field),
                       // y = the shadow-map lookup's offset (texels), z = rays per light where the field is
@@ -235,9 +253,10 @@ struct EvsmBlurPush {
 static_assert(sizeof(BvhNode) == 48, "BvhNode layout");
 static_assert(sizeof(WindingDipole) == 32, "WindingDipole layout");
 static_assert(sizeof(GpuLight) == 64, "GpuLight layout");
-static_assert(sizeof(FrameData) == 112 + 32 * kMaxSkyBlockers, "FrameData layout");
+static_assert(sizeof(FrameData) == 112 + 32 * kMaxSkyBlockers + 2 * 64 + 4 * 16, "FrameData layout");
 static_assert(sizeof(GBufferPush) == 96, "GBufferPush layout");
 static_assert(sizeof(ShadePush) == 96, "ShadePush layout");
+static_assert(sizeof(TemporalPush) == 32, "TemporalPush layout");
 static_assert(sizeof(FieldInstance) == 160, "FieldInstance layout");
 static_assert(sizeof(FieldPackPush) == 96, "FieldPackPush layout");
 static_assert(sizeof(ShadowTile) == 112, "ShadowTile layout");

@@ -16,8 +16,9 @@ constexpr VkFormat kDepth = VK_FORMAT_D32_SFLOAT;
 GBufferPass::GBufferPass(const vk::Context& context)
     : context_(context),
       pipeline_(context, RTSDF_SPIRV(spirv_gbuffer_vert), RTSDF_SPIRV(spirv_gbuffer_frag),
-                {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
-                sizeof(gpu::GBufferPush), vk::RenderTargets{{kColor, kColor, kColor}, kDepth}) {}
+                {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+                 VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
+                sizeof(gpu::GBufferPush), vk::RenderTargets{{kColor, kColor, kColor, kColor}, kDepth}) {}
 
 void GBufferPass::resize(int width, int height) {
   if (width == width_ && height == height_) return;
@@ -26,24 +27,25 @@ void GBufferPass::resize(int width, int height) {
   position_ = vk::Image::plane(context_, width, height, kColor, usage);
   normal_ = vk::Image::plane(context_, width, height, kColor, usage);
   albedo_ = vk::Image::plane(context_, width, height, kColor, usage);
+  motion_ = vk::Image::plane(context_, width, height, kColor, usage | VK_IMAGE_USAGE_TRANSFER_SRC_BIT);  // (read back for inspection)
   depth_ = vk::Image::plane(context_, width, height, kDepth, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT);
   framebuffer_ = std::make_unique<vk::Framebuffer>(
       context_, pipeline_.render_pass(), uint32_t(width), uint32_t(height),
-      std::vector<VkImageView>{position_.view(), normal_.view(), albedo_.view(), depth_.view()});
+      std::vector<VkImageView>{position_.view(), normal_.view(), albedo_.view(), motion_.view(), depth_.view()});
   width_ = width;
   height_ = height;
 }
 
 void GBufferPass::record(VkCommandBuffer cmd, const GpuScene& scene, const vk::Buffer& frame,
-                         const std::vector<float>& field_voxels) const {
+                         const std::vector<float>& field_voxels, const vk::Buffer& previous_transforms) const {
   if (field_voxels.size() != scene.instances().size()) throw Error("GBufferPass: one field voxel per instance");
-  VkClearValue clears[4]{};
-  clears[3].depthStencil = {1.0f, 0};
+  VkClearValue clears[5]{};
+  clears[4].depthStencil = {1.0f, 0};
   VkRenderPassBeginInfo begin{VK_STRUCTURE_TYPE_RENDER_PASS_BEGIN_INFO};
   begin.renderPass = pipeline_.render_pass();
   begin.framebuffer = framebuffer_->handle();
   begin.renderArea = {{0, 0}, {uint32_t(width_), uint32_t(height_)}};
-  begin.clearValueCount = 4;
+  begin.clearValueCount = 5;
   begin.pClearValues = clears;
   vkCmdBeginRenderPass(cmd, &begin, VK_SUBPASS_CONTENTS_INLINE);
   VkViewport viewport{0.0f, 0.0f, float(width_), float(height_), 0.0f, 1.0f};
@@ -52,7 +54,8 @@ void GBufferPass::record(VkCommandBuffer cmd, const GpuScene& scene, const vk::B
   vkCmdSetScissor(cmd, 0, 1, &scissor);
   pipeline_.bind(cmd);
   pipeline_.push_descriptors(cmd, {vk::Resource::storage_buffer(scene.positions()), vk::Resource::storage_buffer(frame),
-                                   vk::Resource::storage_buffer(scene.normals())});
+                                   vk::Resource::storage_buffer(scene.normals()),
+                                   vk::Resource::storage_buffer(previous_transforms)});
   vkCmdBindIndexBuffer(cmd, scene.indices().handle(), 0, VK_INDEX_TYPE_UINT32);
   for (size_t i = 0; i < scene.instances().size(); ++i) {
     const Instance& instance = scene.instances()[i];
@@ -62,6 +65,7 @@ void GBufferPass::record(VkCommandBuffer cmd, const GpuScene& scene, const vk::B
     push.object_to_world = instance.object_to_world;
     push.base_color = glm::vec4(instance.base_color, 1.0f);
     push.field_voxel = field_voxels[i];
+    push.instance = uint32_t(i);
     pipeline_.push_constants(cmd, push);
     vkCmdDrawIndexed(cmd, 3 * mesh.triangle_count, 1, mesh.first_index, int32_t(mesh.base_vertex), 0);
   }

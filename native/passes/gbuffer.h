@@ -1,6 +1,7 @@
 #pragma once
 // Pass 3a: the raster G-buffer from the camera: world position (w = covered),
-// face normal and base colour per pixel, for the shading pass to read.
+// face normal, base colour and motion since the last frame per pixel, for
+// the shading and temporal passes to read.
 #include <memory>
 #include <vector>
 
@@ -17,19 +18,21 @@ class GBufferPass {
   void resize(int width, int height);
   // `frame` holds one gpu::FrameData; `field_voxels`, per instance, the
   // world voxel size of the field holding it (0: in none), which the
-  // shading's receiver offsets are measured in.
+  // shading's receiver offsets are measured in. `previous_transforms`: one
+  // mat4 per instance, its object_to_world in the last frame (for motion).
   void record(VkCommandBuffer cmd, const GpuScene& scene, const vk::Buffer& frame,
-              const std::vector<float>& field_voxels) const;
+              const std::vector<float>& field_voxels, const vk::Buffer& previous_transforms) const;
 
   const vk::Image& position() const { return position_; }
   const vk::Image& normal() const { return normal_; }
   const vk::Image& albedo() const { return albedo_; }
+  const vk::Image& motion() const { return motion_; }
 
  private:
   const vk::Context& context_;
   vk::Pipeline pipeline_;
   int width_ = 0, height_ = 0;
-  vk::Image position_, normal_, albedo_, depth_;
+  vk::Image position_, normal_, albedo_, motion_, depth_;
   std::unique_ptr<vk::Framebuffer> framebuffer_;
 };
 

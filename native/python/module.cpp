@@ -180,6 +180,7 @@ rtsdf::RenderSettings settings_of(const py::dict& settings_desc) {
   settings.grid_slack = get<float>(settings_desc, "grid_slack", settings.grid_slack);
   settings.field_budget_mb = get<double>(settings_desc, "field_budget_mb", settings.field_budget_mb);
   settings.quick_first_frame = get<bool>(settings_desc, "quick_first_frame", settings.quick_first_frame);
+  settings.temporal_reuse = get<bool>(settings_desc, "temporal_reuse", settings.temporal_reuse);
   return settings;
 }
 
@@ -296,7 +297,7 @@ class Viewport {
         advanced = true;
       }
       auto t2 = Clock::now();
-      out = renderer_.read(/*passes=*/false);
+      out = renderer_.read(/*passes=*/settings.temporal_reuse);  // (the samples per pixel: the passes' third)
       auto t3 = Clock::now();
       auto ms = [](Clock::time_point a, Clock::time_point b) { return std::chrono::duration<double, std::milli>(b - a).count(); };
       draw_ms = {ms(t0, t1), ms(t1, t2), ms(t2, t3)};
@@ -304,6 +305,9 @@ class Viewport {
     py::dict result;
     result["combined"] = image_of(out.combined, height, width, 4);  // rows top to bottom
     result["frames"] = out.samples_done;
+    // The samples this frame's pixels stand for on average (with temporal
+    // reuse, history's too; else the frames).
+    result["effective_samples"] = settings.temporal_reuse ? out.effective_samples : double(out.samples_done);
     result["converged"] = out.samples_done >= settings.samples && !renderer_.refining();
     result["advanced"] = advanced;
     // Wall time of this call: starting afresh (SDF rebuild after a change), the frame, the read-back.

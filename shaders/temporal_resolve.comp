@@ -1,0 +1,118 @@
+#version 450
+#extension GL_GOOGLE_include_directive : require
+// Temporal reuse (the paper's TAA: reprojection and a neighbourhood clamp),
+// run once after the shading of the first frame after a change: the frames
+// accumulated before the change (history) are carried into the new
+// accumulation where they still show the same surface, so that a frame of
+// playback is not a single noisy sample.
+// - Reprojection: the G-buffer's motion says where each pixel's surface point
+//   was on screen in the last frame; history is read there, bilinearly.
+// - Disocclusion: history whose depth there differs from that point's depth
+//   from the last camera (by more than params.z of it) shows another surface,
+//   and is dropped.
+// - Clamp: history is clipped to the box of this frame's 3x3 neighbourhood,
+//   mean +- params.x standard deviations in YCoCg (Salvi's variance clipping),
+//   so that what changed (a moved shadow, a lit face) cannot linger.
+// - Moved shadows: a moving shadow is not a moving surface. Where the path
+//   to a light passes the box of the casters that moved, history stands for
+//   at most params.y samples, however still the receiver.
+// The accumulation's running mean then goes on from history's samples
+// (accum_passes.z), up to image.w of them.
+#include "shared.h"
+
+layout(local_size_x = 8, local_size_y = 8) in;
+layout(push_constant) uniform Push { TemporalPush pc; };
+layout(binding = 0, rgba32f) uniform readonly image2D g_position;
+layout(binding = 1, rgba32f) uniform readonly image2D g_motion;
+layout(binding = 2, rgba32f) uniform readonly image2D accum_color;   // this frame's sample
+layout(binding = 3, rgba32f) uniform readonly image2D accum_passes;  // x = Depth, y = Shadow, z = samples (1)
+layout(binding = 4, rgba32f) uniform readonly image2D history_color;
+layout(binding = 5, rgba32f) uniform readonly image2D history_passes;
+layout(std430, binding = 6) readonly buffer Frame { FrameData frame; };
+layout(std430, binding = 7) readonly buffer Lights { GpuLight lights[]; };
+// The resolved accumulation (the renderer takes it as accum_* from here on).
+layout(binding = 8, rgba32f) uniform writeonly image2D resolved_color;
+layout(binding = 9, rgba32f) uniform writeonly image2D resolved_passes;
+
+vec3 to_ycocg(vec3 c) {
+  return vec3(0.25 * c.r + 0.5 * c.g + 0.25 * c.b, 0.5 * c.r - 0.5 * c.b, -0.25 * c.r + 0.5 * c.g - 0.25 * c.b);
+}
+vec3 from_ycocg(vec3 c) { return vec3(c.x + c.y - c.z, c.x + c.z, c.x - c.y - c.z); }
+
+// Whether the segment from p towards light l crosses the box of the casters that moved.
+bool light_path_crosses_change(vec3 p, int l) {
+  if (frame.changed_lo.w == 0.0) return false;
+  GpuLight light = lights[l];
+  bool sun = uint(light.position.w) == kLightSun;
+  vec3 to_light = sun ? -light.direction.xyz : light.position.xyz - p;
+  float t_max = sun ? 1e30 : 1.0;
+  vec3 inv = 1.0 / to_light;
+  vec3 t0 = (frame.changed_lo.xyz - p) * inv, t1 = (frame.changed_hi.xyz - p) * inv;
+  vec3 near = min(t0, t1), far = max(t0, t1);
+  float enter = max(max(max(near.x, near.y), near.z), 0.0), leave = min(min(min(far.x, far.y), far.z), t_max);
+  return enter <= leave;
+}
+
+void main() {
+  ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
+  if (any(greaterThanEqual(pixel, pc.image.xy))) return;
+  vec4 current = imageLoad(accum_color, pixel);
+  vec4 passes = imageLoad(accum_passes, pixel);
+  vec4 motion = imageLoad(g_motion, pixel);
+  vec4 position = imageLoad(g_position, pixel);
+  imageStore(resolved_color, pixel, current);  // (where history cannot help: this sample alone)
+  imageStore(resolved_passes, pixel, passes);
+  if (position.w <= 0.0 || motion.w <= 0.0) return;  // (background, or behind the last camera)
+
+  // Where the surface point was: pixel centre + motion (in pixels), read bilinearly.
+  vec2 at = vec2(pixel) + 0.5 + motion.xy * 0.5 * vec2(pc.image.xy) - 0.5;
+  ivec2 base = ivec2(floor(at));
+  vec2 f = at - vec2(base);
+  vec4 history = vec4(0.0);
+  float history_shadow = 0.0, history_samples = 1e30, weights = 0.0;
+  for (int k = 0; k < 4; ++k) {
+    ivec2 corner = base + ivec2(k & 1, k >> 1);
+    if (any(lessThan(corner, ivec2(0))) || any(greaterThanEqual(corner, pc.image.xy))) continue;
+    vec4 before = imageLoad(history_passes, corner);
+    // (depth 1e10: nothing was there; else another surface unless the depths agree)
+    if (abs(before.x - motion.z) > pc.params.z * abs(motion.z)) continue;
+    vec2 bilinear = mix(1.0 - f, f, vec2(k & 1, k >> 1));
+    float w = bilinear.x * bilinear.y;
+    if (w <= 0.0) continue;
+    history += w * imageLoad(history_color, corner);
+    history_shadow += w * before.y;
+    history_samples = min(history_samples, before.z);
+    weights += w;
+  }
+  if (weights < 1e-3) return;  // disoccluded
+  history /= weights;
+  history_shadow /= weights;
+
+  // The neighbourhood's mean and spread in YCoCg (this frame's samples, same coverage).
+  vec3 mean = vec3(0.0), square = vec3(0.0);
+  float count = 0.0;
+  for (int dy = -1; dy <= 1; ++dy)
+    for (int dx = -1; dx <= 1; ++dx) {
+      ivec2 q = clamp(pixel + ivec2(dx, dy), ivec2(0), pc.image.xy - 1);
+      vec3 c = to_ycocg(imageLoad(accum_color, q).rgb);
+      mean += c, square += c * c, count += 1.0;
+    }
+  mean /= count;
+  vec3 sigma = sqrt(max(square / count - mean * mean, 0.0));
+  vec3 lo = mean - pc.params.x * sigma, hi = mean + pc.params.x * sigma;
+  // Clip towards the mean (not per channel), keeping history's hue where it can.
+  vec3 h = to_ycocg(history.rgb), d = h - mean;
+  vec3 reach = max(hi - mean, vec3(1e-6));
+  float scale = max(max(abs(d.x) / reach.x, abs(d.y) / reach.y), abs(d.z) / reach.z);
+  vec3 clipped = from_ycocg(scale > 1.0 ? mean + d / scale : h);
+  // (the shadow pass follows the colour: clipped by the same share)
+  float kept = scale > 1.0 ? 1.0 / scale : 1.0;
+  float shadow_history = mix(passes.y, history_shadow, kept);
+
+  float samples = min(history_samples, float(pc.image.w));
+  for (int l = 0; l < pc.image.z; ++l)
+    if (light_path_crosses_change(position.xyz, l)) samples = min(samples, pc.params.y);
+  float w = 1.0 / (samples + 1.0);  // this frame's sample's share
+  imageStore(resolved_color, pixel, vec4(mix(clipped, current.rgb, w), current.a));
+  imageStore(resolved_passes, pixel, vec4(passes.x, mix(shadow_history, passes.y, w), samples + 1.0, 0.0));
+}

@@ -1,0 +1,136 @@
+// Temporal reuse (Renderer with RenderSettings::temporal_reuse, the viewport's
+// playback): the G-buffer's motion, history kept where the same surface shows
+// and dropped where another does, and no shadow left behind a moved caster.
+#include <cmath>
+#include <cstdio>
+#include <glm/gtc/matrix_transform.hpp>
+
+#include "reference/shapes.h"
+#include "renderer.h"
+#include "vulkan_test.h"
+
+namespace rtsdf {
+namespace {
+
+constexpr int kSize = 64;  // pixels over the 4 x 4 top view
+
+class TemporalTest : public testing::VulkanTest {};
+
+// A cube 0.5 wide standing 0.5 above a ground, at x = -0.5; moved by
+// kMove along +x. The sun is tilted 45 degrees towards +x.
+constexpr float kMove = 0.5f;
+
+Scene cube_over_ground() {
+  Scene scene;
+  scene.meshes = {reference::box({-0.25f, -0.25f, 0.5f}, {0.25f, 0.25f, 1.0f}), reference::sheet({-20, -20}, {20, 20}, 0.0f)};
+  scene.instances = {{0, glm::translate(glm::mat4(1.0f), glm::vec3(-0.5f, 0, 0)), glm::vec3(0.8f)},
+                     {1, glm::mat4(1.0f), glm::vec3(0.8f)}};
+  return scene;
+}
+
+Camera top_view() {  // orthographic, straight down, x and y in [-2, 2]
+  Camera camera;
+  camera.world_to_view = glm::lookAt(glm::vec3(0, 0, 10), glm::vec3(0, 0, 0), glm::vec3(0, 1, 0));
+  camera.projection = glm::orthoRH_NO(-2.0f, 2.0f, -2.0f, 2.0f, 0.1f, 20.0f);
+  camera.orthographic = true;
+  return camera;
+}
+
+Light tilted_sun() {
+  Light sun;
+  sun.type = LightType::Sun;
+  sun.direction = {float(std::sqrt(0.5)), 0, -float(std::sqrt(0.5))};
+  sun.energy = 3.0f;
+  sun.sun_angle = float(5.0 * M_PI / 180.0);
+  return sun;
+}
+
+RenderSettings playback_settings() {
+  RenderSettings settings;
+  settings.coarse_resolution = 32;
+  settings.fine_resolution = 64;
+  settings.keep_history = true;
+  settings.temporal_reuse = true;
+  return settings;
+}
+
+size_t pixel_at(double x, double y) {  // (rows top to bottom: +y first)
+  const int i = std::clamp(int((x + 2.0) / 4.0 * kSize), 0, kSize - 1);
+  const int j = std::clamp(int((2.0 - y) / 4.0 * kSize), 0, kSize - 1);
+  return size_t(j) * kSize + size_t(i);
+}
+
+void move_cube(GpuScene& scene, float x) {
+  scene.set_transforms({glm::translate(glm::mat4(1.0f), glm::vec3(x, 0, 0)), glm::mat4(1.0f)});
+}
+
+// After 4 frames, the cube moves: the G-buffer's motion on its top is the
+// analytic one (the top view maps 4 units to 2 in normalized coordinates),
+// 0 on the ground; history carries over on the still ground (4 samples) and
+// on the cube's top, and is dropped where the ground shows through where the
+// cube was (its depth differs by a tenth).
+TEST_F(TemporalTest, ReprojectionFollowsATranslatingCubeAndDropsDisocclusions) {
+  GpuScene scene(context(), cube_over_ground());
+  Renderer renderer(context());
+  const RenderSettings settings = playback_settings();
+  renderer.begin(scene, top_view(), {tilted_sun()}, glm::vec3(0.05f), kSize, kSize, settings, true);
+  for (int frame = 0; frame < 4; ++frame) renderer.add_frame();
+  move_cube(scene, -0.5f + kMove);
+  renderer.begin(scene, top_view(), {tilted_sun()}, glm::vec3(0.05f), kSize, kSize, settings, true);
+  renderer.add_frame();
+
+  const std::vector<glm::vec4> motion = renderer.read_motion();
+  const glm::vec4 on_top = motion[pixel_at(0.05, 0.05)], on_ground = motion[pixel_at(1.8, 1.8)];
+  std::printf("motion on the cube's top (%.4f, %.4f), depth %.3f; on the ground (%.4f, %.4f)\n", on_top.x, on_top.y,
+              on_top.z, on_ground.x, on_ground.y);
+  EXPECT_NEAR(on_top.x, -kMove * 0.5f, 1e-4f);
+  EXPECT_NEAR(on_top.y, 0.0f, 1e-4f);
+  EXPECT_NEAR(on_top.z, 9.0f, 1e-3f) << "the top's depth from the camera 10 above the ground";
+  EXPECT_EQ(on_top.w, 1.0f);
+  EXPECT_NEAR(on_ground.x, 0.0f, 1e-5f);
+  EXPECT_NEAR(on_ground.y, 0.0f, 1e-5f);
+
+  const RenderOutput out = renderer.read();
+  const float ground = out.samples[pixel_at(1.8, 1.8)], top = out.samples[pixel_at(0.05, 0.05)];
+  const float uncovered = out.samples[pixel_at(-0.6, 0.0)];
+  std::printf("samples: still ground %.0f, cube top %.0f, ground where the cube was %.0f; effective %.2f\n", ground, top,
+              uncovered, out.effective_samples);
+  EXPECT_EQ(ground, 5.0f) << "4 frames of history and this one";
+  EXPECT_GE(top, 2.0f) << "the moved top found itself in history";
+  EXPECT_EQ(uncovered, 1.0f) << "history there showed the cube: dropped";
+  EXPECT_GT(out.effective_samples, 3.0);
+}
+
+// Playback: the cube moves by its own width. Two frames later, where its old
+// shadow lay and the sun now reaches, the image is a fresh render's: no trail.
+TEST_F(TemporalTest, MovingCasterLeavesNoShadowTrailAfterTwoFrames) {
+  GpuScene scene(context(), cube_over_ground());
+  Renderer renderer(context());
+  RenderSettings settings = playback_settings();
+  renderer.begin(scene, top_view(), {tilted_sun()}, glm::vec3(0.05f), kSize, kSize, settings, true);
+  for (int frame = 0; frame < 8; ++frame) renderer.add_frame();
+  const std::vector<float> before = renderer.read().shadow;
+  move_cube(scene, -0.5f + kMove);
+  renderer.begin(scene, top_view(), {tilted_sun()}, glm::vec3(0.05f), kSize, kSize, settings, true);
+  renderer.add_frame();
+  renderer.add_frame();
+  const std::vector<float> played = renderer.read().shadow;
+
+  GpuScene fresh_scene(context(), cube_over_ground());
+  move_cube(fresh_scene, -0.5f + kMove);
+  Renderer fresh(context());
+  settings.temporal_reuse = false;
+  settings.samples = 2;
+  const std::vector<float> expected =
+      fresh.render(fresh_scene, top_view(), {tilted_sun()}, glm::vec3(0.05f), kSize, kSize, settings).shadow;
+  double worst = 0.0;
+  int count = 0;
+  for (size_t i = 0; i < expected.size(); ++i)
+    if (before[i] < 0.3f && expected[i] > 0.9f) worst = std::max(worst, double(std::abs(played[i] - expected[i]))), ++count;
+  std::printf("old shadow now lit: %d pixels, largest |played - fresh| %.3f\n", count, worst);
+  ASSERT_GT(count, 20);
+  EXPECT_LT(worst, 0.1) << "the moved cube's old shadow is gone after two frames";
+}
+
+}  // namespace
+}  // namespace rtsdf
