@@ -145,7 +145,8 @@ class RTSDFRenderEngine(bpy.types.RenderEngine):
         options = settings.as_dict()
         # Room around the casters: an object moving a little keeps the grid and the fine SDF's history.
         options.update(samples=settings.viewport_samples, sdf_updates=0, interleave=settings.viewport_interleave,
-                       grid_slack=0.5, quick_first_frame=settings.viewport_quick_first_frame)
+                       grid_slack=0.5, quick_first_frame=settings.viewport_quick_first_frame,
+                       temporal_reuse=settings.viewport_temporal_reuse)
         try:
             out = self.viewport.draw(sync.view_data(depsgraph, context.region_data, width, height), options)
         except RuntimeError as e:
@@ -172,6 +173,7 @@ class RTSDFRenderEngine(bpy.types.RenderEngine):
         last_view_draw.update(frames=out["frames"], converged=out["converged"], ms=dict(self.last_draw or out["ms"]),
                               width=width, height=height, time=time.perf_counter(),
                               validation_messages=out["validation_messages"], draw_ms=out["draw_ms"],
+                              effective_samples=out["effective_samples"],
                               stats=dict(out["stats"]))
         if not out["converged"]:
             self.tag_redraw()
@@ -190,6 +192,8 @@ class RTSDFRenderEngine(bpy.types.RenderEngine):
             self.last_ms = dict(ms)
         frame_ms = self.last_draw or ms
         state = "converged" if out["converged"] else f"frame {out['frames']}/{samples}"
+        # With temporal reuse, the samples the pixels stand for on average, history included.
+        state += f" ({out['effective_samples']:.1f} spp)"
         self.update_stats("", f"RTSDF {state} | SDF {frame_ms['sdf']:.0f} ms | fine {frame_ms['fine']:.0f} ms | "
                               f"shading {frame_ms['shade']:.0f} ms | {field_summary(out['stats'], per_frame=True)}")
 

@@ -84,6 +84,12 @@ class RTSDFSettings(bpy.types.PropertyGroup):
         description="The frame after a change marches the lights' shadows at one pixel of each 2x2 quad and "
                     "shares them along each surface: about half the shading cost while playing or dragging. "
                     "The frames after it march every pixel")
+    viewport_temporal_reuse: BoolProperty(
+        name="Temporal Reuse", default=True,
+        description="While playing or dragging, each frame reprojects the previous frames' shadows along the "
+                    "objects' and camera's motion (variance-clipped, dropped where a surface was hidden or a moved "
+                    "caster crosses the light path) instead of starting from one noisy sample. Deforming meshes "
+                    "reproject with their object's motion only")
 
     def as_dict(self):
         settings = {name: getattr(self, name) for name in self.__annotations__}

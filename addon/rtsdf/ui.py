@@ -31,7 +31,8 @@ class RTSDF_PT_settings(bpy.types.Panel):
                     ("Shadows", ("shadow_method", "exact_rays", "shadow_epsilon", "shadow_max_steps", "max_step",
                                  "shadow_map_size")),
                     ("Render", ("samples", "sdf_updates")),
-                    ("Viewport", ("viewport_samples", "viewport_scale", "viewport_interleave", "viewport_quick_first_frame")))
+                    ("Viewport", ("viewport_samples", "viewport_scale", "viewport_interleave", "viewport_quick_first_frame",
+                                  "viewport_temporal_reuse")))
         for heading, names in sections:
             column = layout.column(align=True, heading=heading)
             for name in names:

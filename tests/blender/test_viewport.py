@@ -49,6 +49,12 @@ class Viewport(unittest.TestCase):
     def test_moving_an_object_moves_its_shadow(self):
         self.assertLess(self.results["moved_shadow_iou"], 0.5)
 
+    def test_playback_frames_reuse_history(self):
+        # Temporal reuse (the default): a frame change keeps the reprojected
+        # history where nothing moved, so the pixels stand for more than the
+        # one sample a restart would give.
+        self.assertGreater(self.results["effective_samples_median"]["True"], 2.0)
+
     def test_frame_changes_leave_memory_flat(self):
         rss = self.results["rss_mib"]
         self.assertEqual(rss["frames"], FRAMES)

@@ -5,10 +5,12 @@ the time of a frame change plus redraw against EEVEE's in the same run).
 
 xvfb-run -a -s "-screen 0 1280x800x24" blender --window-geometry 0 0 1200 760 --addons rtsdf \
     SCENE.blend --python tests/blender/viewport_driver.py -- OUT_DIR [--moving OBJECT] [--frames N] [--compare-eevee]
-    [--scale S] [--pixel-size N] [--compare-full-first-frame]
+    [--scale S] [--pixel-size N] [--compare-full-first-frame] [--compare-no-temporal-reuse]
 
 --compare-full-first-frame times the frame changes again with Quick First
-Frame off (every pixel marches its lights), after EEVEE's. --scale sets RTSDF's Viewport Scale (the share of the region's width and
+Frame off (every pixel marches its lights), after EEVEE's;
+--compare-no-temporal-reuse with Temporal Reuse off (each frame change starts
+from one sample). --scale sets RTSDF's Viewport Scale (the share of the region's width and
 height it renders); --pixel-size sets Blender's viewport Pixel Size
 (render.preview_pixel_size: 1, 2, 4 or 8), which the engines that honour it
 (Cycles, EEVEE) use. Compare engines at the same pixel count.
@@ -36,7 +38,10 @@ FRAMES = int(args[args.index("--frames") + 1]) if "--frames" in args else 100
 COMPARE_EEVEE = "--compare-eevee" in args
 SCALE = float(args[args.index("--scale") + 1]) if "--scale" in args else None
 PIXEL_SIZE = args[args.index("--pixel-size") + 1] if "--pixel-size" in args else None
-COMPARE_FULL_FIRST_FRAME = "--compare-full-first-frame" in args
+# Frame changes timed again with one viewport setting off: (flag, setting, result key).
+COMPARE_SETTING_OFF = [(flag, setting, key) for flag, setting, key in (
+    ("--compare-full-first-frame", "viewport_quick_first_frame", "full_first_frame_change_ms"),
+    ("--compare-no-temporal-reuse", "viewport_temporal_reuse", "no_temporal_reuse_frame_change_ms")) if flag in args]
 TIMEOUT = 120.0
 os.makedirs(OUT, exist_ok=True)
 results = {"errors": []}
@@ -221,7 +226,7 @@ def steps():
             # A new engine starts its fields afresh: timed from where a user
             # who had the viewport open would be, with them refined.
             yield from wait_converged(time.perf_counter())
-        times, memory, draws, stages, field_stats = [], [], [], [], []
+        times, memory, draws, stages, field_stats, samples = [], [], [], [], [], []
         for f in range(1, FRAMES + 1):
             start = time.perf_counter()
             scene.frame_set(f)
@@ -232,6 +237,7 @@ def steps():
                 draws.append(dict(rtsdf_engine.last_view_draw.get("draw_ms", {})))
                 stages.append(dict(rtsdf_engine.last_view_draw.get("ms", {})))
                 field_stats.append(dict(rtsdf_engine.last_view_draw.get("stats", {})))
+                samples.append(rtsdf_engine.last_view_draw.get("effective_samples", 0.0))
             memory.append(rss_mib())
             if f % 10 == 0:
                 yield 0.0
@@ -240,6 +246,9 @@ def steps():
             results["stages_ms_median"] = {k: float(np.median([s.get(k, 0.0) for s in stages])) for k in stages[-1]}
             results["stages_ms_frames"] = stages
             results["field_stats_frames"] = field_stats
+        if samples:
+            results.setdefault("effective_samples_median", {})[str(scene.rtsdf.viewport_temporal_reuse)] = \
+                float(np.median(samples))
         return times, memory
 
     times, memory = yield from frame_changes("RTSDF")
@@ -252,12 +261,11 @@ def steps():
         eevee_times, _ = yield from frame_changes("BLENDER_EEVEE")
         results["eevee_frame_change_ms"] = {"median": 1000 * float(np.median(eevee_times)),
                                             "max": 1000 * float(np.max(eevee_times))}
-    if COMPARE_FULL_FIRST_FRAME:
-        scene.rtsdf.viewport_quick_first_frame = False
-        full_times, _ = yield from frame_changes("RTSDF", record=False)
-        results["full_first_frame_change_ms"] = {"median": 1000 * float(np.median(full_times)),
-                                                 "max": 1000 * float(np.max(full_times))}
-        scene.rtsdf.viewport_quick_first_frame = True
+    for _, setting, key in COMPARE_SETTING_OFF:
+        setattr(scene.rtsdf, setting, False)
+        off_times, _ = yield from frame_changes("RTSDF", record=False)
+        results[key] = {"median": 1000 * float(np.median(off_times)), "max": 1000 * float(np.max(off_times))}
+        setattr(scene.rtsdf, setting, True)
 
 
 def run():
