@@ -3,7 +3,8 @@
   prepare: the scene as RTSDF takes it (before and after a move of one
            object), and the Cycles references (with and without shadows) of both,
            and of the world's light alone before the move;
-  eevee:   EEVEE renders (run under Xvfb) over a sweep of its shadow settings.
+  eevee:   EEVEE renders (run under Xvfb) over a sweep of its shadow settings,
+           and the frames its viewport shows while the mover plays prepare's move.
 
 blender -b SCENE.blend --addons rtsdf --python bench/blender_side.py -- MODE OUT_DIR PERCENT CYCLES_SAMPLES [QUICK]
 Writes pickles of plain data and numpy arrays (linear RGB, rows top to bottom) into OUT_DIR.
@@ -23,6 +24,7 @@ from rtsdf import sync
 
 MODE, OUT, PERCENT, CYCLES_SAMPLES = sys.argv[sys.argv.index("--") + 1:][:4]
 QUICK = sys.argv[-1] == "quick"
+PLAYBACK_STEPS = 8  # (bench/run's ANIMATION_STEPS)
 PERCENT, CYCLES_SAMPLES = int(PERCENT), int(CYCLES_SAMPLES)
 os.makedirs(OUT, exist_ok=True)
 
@@ -123,7 +125,7 @@ def eevee():
     results = []
     for cascade, samples in sweep:
         scene.eevee.shadow_cascade_size = cascade
-        scene.eevee.shadow_cube_size = cascade if cascade != "4096" else "4096"
+        scene.eevee.shadow_cube_size = cascade
         scene.eevee.taa_render_samples = samples
         for light in bpy.data.lights:
             if light.type == "SUN":
@@ -134,6 +136,26 @@ def eevee():
         np.save(os.path.join(OUT, name + ".npy"), image)
         results.append({"setting": f"cascade={cascade} samples={samples}", "file": name + ".npy",
                         "ms_per_frame": 1000.0 * seconds / samples, "seconds": seconds})
+    mover = moving_object()
+    if mover is not None:
+        # Playback of prepare()'s move, one TAA sample a frame as EEVEE's viewport draws while playing
+        # (it restarts its samples on every change), then the pose at the sweep's first setting, converged.
+        cascade, samples = sweep[0]
+        scene.eevee.shadow_cascade_size = cascade
+        scene.eevee.shadow_cube_size = cascade
+        mover.animation_data_clear()
+        start, step = mover.location.copy(), Vector((max(mover.dimensions) / PLAYBACK_STEPS, 0.0, 0.0))
+        scene.eevee.taa_render_samples = 1
+        frames = []
+        for n in range(1, PLAYBACK_STEPS + 1):
+            mover.location = start + step * n
+            image, _ = render_pixels()
+            frames.append(f"eevee_playback_{n}.npy")
+            np.save(os.path.join(OUT, frames[-1]), image)
+        scene.eevee.taa_render_samples = samples
+        image, _ = render_pixels()
+        np.save(os.path.join(OUT, "eevee_still_after.npy"), image)
+        results[0].update(playback=frames, still_after="eevee_still_after.npy")
     with open(os.path.join(OUT, "eevee.json"), "w") as f:
         json.dump(results, f, indent=1)
 

@@ -26,7 +26,7 @@ const glm::mat4 kGlToVulkan(1, 0, 0, 0, 0, -1, 0, 0, 0, 0, 0.5f, 0, 0, 0, 0.5f, 
 // moved caster's shadow may have moved it stands for at most this many
 // samples; and a reprojected surface is the same one within this share of its depth.
 constexpr float kTemporalClip = 1.25f;
-constexpr float kMovedShadowSamples = 3.0f;
+constexpr float kMovedShadowSamples = 1.0f;  // (a moved shadow: mostly from this frame)
 constexpr float kReprojectedDepthTolerance = 0.01f;
 
 float halton(uint32_t index, uint32_t base) {
@@ -124,6 +124,8 @@ void Renderer::validate(int width, int height, const RenderSettings& settings) c
   if (width < 1 || height < 1 || width > 16384 || height > 16384)
     throw Error("image size " + std::to_string(width) + "x" + std::to_string(height) + " is out of range (1 to 16384)");
   if (settings.samples < 1 || settings.samples > 4096) throw Error("samples must be 1 to 4096");
+  if (settings.history_samples < 0 || settings.history_samples > 4096)
+    throw Error("history_samples must be 0 to 4096");
   if (!(settings.filter_width >= 0.0f && settings.filter_width <= 500.0f))
     throw Error("filter_width must be 0 to 500 pixels (Blender's Filter Size range)");
   if (settings.sdf_updates < 0 || settings.sdf_updates > 4096) throw Error("sdf_updates must be 0 (every frame) to 4096");
@@ -376,6 +378,7 @@ void Renderer::begin(GpuScene& scene, const Camera& camera, const std::vector<Li
   }
   shadow_map_renders_ = 0;
   frame_ = 0;
+  if (!has_history_) sequence_ = 0;
   timings_.total_ms = ms_since(start);
 }
 
@@ -409,13 +412,14 @@ void Renderer::add_frame() {
 
   const Clock::time_point shading = Clock::now();
   // Sub-pixel jitter (Halton 2,3 through the pixel filter) for anti-aliasing, averaged over frames.
-  const glm::vec2 jitter(pixel_filter_offset(halton(uint32_t(frame_), 2), settings_.filter_width),
-                         pixel_filter_offset(halton(uint32_t(frame_), 3), settings_.filter_width));
+  const glm::vec2 jitter(pixel_filter_offset(halton(sequence_, 2), settings_.filter_width),
+                         pixel_filter_offset(halton(sequence_, 3), settings_.filter_width));
   const glm::mat4 shift = glm::translate(glm::mat4(1.0f), glm::vec3(2.0f * jitter.x / float(width_),
                                                                    2.0f * jitter.y / float(height_), 0.0f));
   frame_data_.world_to_clip = shift * world_to_clip_;
   std::memcpy(frame_buffer_.mapped(), &frame_data_, sizeof frame_data_);
   push_.image = glm::ivec4(width_, height_, light_count_, frame_);
+  push_.sequence = glm::uvec4(sequence_, 0u, 0u, 0u);
   const ShadowMapPass* shadow_maps = settings_.shadow_method == ShadowMethod::CsmEvsm ? shadow_maps_.get() : nullptr;
   const bool traces_rays =
       push_.visibility.x == gpu::kVisibilityRayTraced || push_.visibility.x == gpu::kVisibilityHybrid;
@@ -433,8 +437,11 @@ void Renderer::add_frame() {
       vk::memory_barrier(cmd, VK_ACCESS_SHADER_WRITE_BIT, VK_ACCESS_SHADER_READ_BIT,
                          VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT);
       gpu::TemporalPush temporal{};
-      temporal.image = glm::ivec4(width_, height_, light_count_, settings_.samples);
-      temporal.params = glm::vec4(kTemporalClip, kMovedShadowSamples, kReprojectedDepthTolerance, 0.0f);
+      temporal.image = glm::ivec4(width_, height_, light_count_,
+                                  settings_.history_samples > 0 ? settings_.history_samples : settings_.samples);
+      // (the pixel filter's jitter reaches filter_width pixels either way)
+      temporal.params = glm::vec4(kTemporalClip, kMovedShadowSamples, kReprojectedDepthTolerance,
+                                  std::ceil(std::max(settings_.filter_width, 0.5f)));
       temporal_.record(cmd, gbuffer_, accum_color_, accum_passes_, history_color_, history_passes_, frame_buffer_,
                        light_buffer_, resolved_color_, resolved_passes_, temporal);
     }
@@ -452,6 +459,7 @@ void Renderer::add_frame() {
   }
   timings_.total_ms += ms_since(start);
   frame_++;
+  sequence_++;
 }
 
 std::vector<glm::vec4> Renderer::read_motion() const {

@@ -99,8 +99,13 @@ struct RenderSettings {
   // Temporal reuse (the viewport during playback and edits): a begin() after
   // a change carries the accumulation so far into the new one where it still
   // shows the same surface (passes/temporal.h), standing for up to `samples`
-  // samples. Off: every begin() starts from nothing, as a final render must.
+  // samples. Off: every begin() starts from nothing (final renders, unless an
+  // animation render opts in).
   bool temporal_reuse = false;
+  // The most samples reprojected history stands for (0: `samples`). An
+  // animation render that draws few samples a frame lets history stand for
+  // the rest.
+  int history_samples = 0;
 };
 
 // What the SDF methods did, for the stats a user sees.
@@ -237,6 +242,10 @@ class Renderer {
   bool has_casters_ = false;
   int width_ = 0, height_ = 0;
   int frame_ = 0;
+  // The frame's index in the jitter sequences (pixel filter, shadow origins,
+  // light samples): frame_ in a fresh accumulation, counted on where history
+  // carries over, or every frame after a change would repeat sample 0.
+  uint32_t sequence_ = 0;
   int fine_updates_ = 0;        // since the SDFs were rebuilt
   std::optional<Bounds> changed_region_;  // for the first fine update after a local change
   int shadow_map_renders_ = 0;  // since begin() (the maps follow the camera)
@@ -251,7 +260,7 @@ class Renderer {
   vk::Buffer light_buffer_;
   vk::Buffer frame_buffer_;
   vk::Image accum_color_;
-  vk::Image accum_passes_;  // x = depth, y = shadow, z = samples in the pixel's mean
+  vk::Image accum_passes_;  // x = nearest depth, y = shadow, z = samples in the pixel's mean, w = farthest depth
 
   // Temporal reuse: the last accumulation (history) while the first frame
   // after a change is resolved into resolved_*, which then becomes accum_*.

@@ -26,7 +26,7 @@ void main() {
   vec3 p = position.xyz;
   vec3 n = facing_normal(pixel, p);
   float receiver_voxel = imageLoad(g_albedo, pixel).a;
-  float jitter = hash(uvec3(pixel, uint(pc.image.w)));
+  float jitter = hash(uvec3(pixel, pc.sequence.x));
   vec3 origin = march_origin(p, n, receiver_voxel);
   float sky = wants_sky() ? world_light_visibility(origin, n, receiver_voxel, jitter, pixel) : 1.0;
   imageStore(quad_samples, quad, vec4(n, sky));

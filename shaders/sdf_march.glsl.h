@@ -33,8 +33,8 @@ vec3 disk_direction(vec3 dir, float tan_radius, vec2 start, uint index) {
 vec3 sky_direction(vec3 n, ivec2 pixel, uint k) {
   vec3 t, b;
   tangent_frame(n, t, b);
-  float u1 = hash(uvec3(pixel, uint(pc.image.w) * 4u + 2u * k + 1u));
-  float u2 = hash(uvec3(pixel.yx, uint(pc.image.w) * 4u + 2u * k + 2u));
+  float u1 = hash(uvec3(pixel, pc.sequence.x * 4u + 2u * k + 1u));
+  float u2 = hash(uvec3(pixel.yx, pc.sequence.x * 4u + 2u * k + 2u));
   float r = sqrt(u1), phi = 6.2831853 * u2;
   return normalize(t * (r * cos(phi)) + b * (r * sin(phi)) + n * sqrt(max(1.0 - u1, 0.0)));
 }
@@ -266,7 +266,7 @@ float light_visibility(vec3 origin, vec3 dir, float t_min, float t_max, float ta
     v = visibility(origin, march_dir, t_min, t_max, cone, jitter, escape, vec3(0.0), false, false, crossed_sheet);
     if (!crossed_sheet || tan_radius <= 0.0) break;
     march_dir = disk_direction(dir, tan_radius, vec2(hash(uvec3(pixel, 0x1157u)), hash(uvec3(pixel.yx, 0x1158u))),
-                               uint(pc.image.w));
+                               pc.sequence.x);
     cone = 1e-3 * tan_radius;
   }
   return v;

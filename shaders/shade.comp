@@ -22,7 +22,8 @@
 layout(local_size_x = 8, local_size_y = 8) in;
 #include "shade_inputs.glsl.h"  // the G-buffer, the frame, the lights, the fields, the march, the quad samples
 layout(binding = 6, rgba32f) uniform image2D accum_color;   // rgb = Combined, a = coverage
-layout(binding = 7, rgba32f) uniform image2D accum_passes;  // x = Depth, y = Shadow (visibility), z = samples in
+// x = Depth (the nearest seen), y = Shadow (visibility), z = samples in the mean, w = the farthest depth seen
+layout(binding = 7, rgba32f) uniform image2D accum_passes;
 layout(binding = 8, rgba32f) uniform readonly image2D shadow_atlas;  // EVSM moments (csm_evsm)
 layout(std430, binding = 9) readonly buffer ShadowTiles { ShadowTile shadow_tiles[]; };
 layout(std430, binding = 10) readonly buffer ShadowLights { ShadowLightTiles shadow_lights[]; };
@@ -132,7 +133,7 @@ void main() {
     bool in_sdf = receiver_voxel > 0.0;
     depth = dot(p - frame.camera_position.xyz, frame.camera_forward.xyz);
     float lit = 0.0, unshadowed = 0.0;
-    float jitter = hash(uvec3(pixel, uint(pc.image.w)));
+    float jitter = hash(uvec3(pixel, pc.sequence.x));
     // The march follows the ray from the shading point itself (an offset along
     // the normal would move every shadow edge inward by offset * tan(angle)).
     // On a surface that is in the SDF it starts pc.march.z voxels along the ray, so
@@ -181,6 +182,10 @@ void main() {
   vec4 previous_passes = pc.image.w == 0 ? vec4(0.0) : imageLoad(accum_passes, pixel);
   float samples = previous_passes.z, w = 1.0 / (samples + 1.0);
   imageStore(accum_color, pixel, mix(previous_color, vec4(color, position.w > 0.0 ? 1.0 : 0.0), w));
-  imageStore(accum_passes, pixel,
-             vec4(position.w > 0.0 ? depth : 1e10, mix(previous_passes.y, shadow, w), samples + 1.0, 0.0));
+  // The depths the pixel's samples saw, nearest to farthest: a pixel on a
+  // silhouette holds both surfaces (the Depth pass is the nearest).
+  float seen = position.w > 0.0 ? depth : kNothingHitDepth;
+  float nearest = samples > 0.0 ? min(previous_passes.x, seen) : seen;
+  float farthest = samples > 0.0 ? max(previous_passes.w, seen) : seen;
+  imageStore(accum_passes, pixel, vec4(nearest, mix(previous_passes.y, shadow, w), samples + 1.0, farthest));
 }

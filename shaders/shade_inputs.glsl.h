@@ -139,7 +139,7 @@ float rays_to_light(LightPath path, vec3 p, vec3 n, ivec2 pixel, int count) {
   vec2 start = vec2(hash(uvec3(pixel, 0x2000u + seed)), hash(uvec3(pixel.yx, 0x3000u + seed)));
   float reached = 0.0;
   for (int k = 0; k < count; ++k) {
-    vec3 dir = disk_direction(path.march_dir, path.tan_radius, start, uint(pc.image.w * count + k));
+    vec3 dir = disk_direction(path.march_dir, path.tan_radius, start, pc.sequence.x * uint(count) + uint(k));
     if (ray_reaches(p, n, dir, path.t_max)) reached += 1.0;
   }
   return reached / float(count);

@@ -140,8 +140,15 @@ struct GBufferPush {
 struct TemporalPush {
   ivec4 image;    // x, y = size in pixels, z = light count, w = the most samples history may stand for
   vec4 params;    // x = variance clip width (standard deviations), y = the most history samples where a moved
-                  // caster's shadow may have moved, z = relative depth a reprojected surface may differ by
+                  // caster's shadow may have moved, z = relative depth a reprojected surface may differ by,
+                  // w = the sub-pixel jitter's reach (whole pixels)
 };
+// The most samples history stands for where it matched a pixel's depth only
+// within the jitter's reach (temporal_resolve.comp).
+const float kNearbyHistorySamples = 3.0;
+
+// The depth pass where a pixel sees no surface (the world behind everything).
+const float kNothingHitDepth = 1e10;
 
 // What the shading's visibility reads (ShadePush::visibility.x).
 const uint kVisibilitySignedSdf = 0u;    // march signed fields: fine SDFs (rtsdf, rtsdf_world, rt_only)
@@ -215,6 +222,8 @@ struct ShadePush {
                       // y = the shadow-map lookup's offset (texels), z = rays per light where the field is
                       // uncertain (kVisibilityHybrid)
   vec4 evsm;          // x = positive exponent c+, y = negative exponent c-, z = light-bleeding reduction
+  uvec4 sequence;     // x = this frame's index in the jitter sequences: the accumulation frame, counted on
+                      // across frame changes whose history is kept, so reused samples and new ones differ
 };
 
 // Shadow maps (csm_evsm). Every view (a sun's cascade, a spot light's view, a
@@ -255,7 +264,7 @@ static_assert(sizeof(WindingDipole) == 32, "WindingDipole layout");
 static_assert(sizeof(GpuLight) == 64, "GpuLight layout");
 static_assert(sizeof(FrameData) == 112 + 32 * kMaxSkyBlockers + 2 * 64 + 4 * 16, "FrameData layout");
 static_assert(sizeof(GBufferPush) == 96, "GBufferPush layout");
-static_assert(sizeof(ShadePush) == 96, "ShadePush layout");
+static_assert(sizeof(ShadePush) == 112, "ShadePush layout");
 static_assert(sizeof(TemporalPush) == 32, "TemporalPush layout");
 static_assert(sizeof(FieldInstance) == 160, "FieldInstance layout");
 static_assert(sizeof(FieldPackPush) == 96, "FieldPackPush layout");

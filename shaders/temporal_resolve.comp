@@ -7,9 +7,10 @@
 // playback is not a single noisy sample.
 // - Reprojection: the G-buffer's motion says where each pixel's surface point
 //   was on screen in the last frame; history is read there, bilinearly.
-// - Disocclusion: history whose depth there differs from that point's depth
-//   from the last camera (by more than params.z of it) shows another surface,
-//   and is dropped.
+// - Disocclusion: history whose depths there (the range its samples saw),
+//   and within the jitter's reach around it, miss that point's depth from the
+//   last camera (by more than params.z of it) shows another surface, and is
+//   dropped; matched only within the reach, it counts as few samples.
 // - Clamp: history is clipped to the box of this frame's 3x3 neighbourhood,
 //   mean +- params.x standard deviations in YCoCg (Salvi's variance clipping),
 //   so that what changed (a moved shadow, a lit face) cannot linger.
@@ -25,7 +26,7 @@ layout(push_constant) uniform Push { TemporalPush pc; };
 layout(binding = 0, rgba32f) uniform readonly image2D g_position;
 layout(binding = 1, rgba32f) uniform readonly image2D g_motion;
 layout(binding = 2, rgba32f) uniform readonly image2D accum_color;   // this frame's sample
-layout(binding = 3, rgba32f) uniform readonly image2D accum_passes;  // x = Depth, y = Shadow, z = samples (1)
+layout(binding = 3, rgba32f) uniform readonly image2D accum_passes;  // x = Depth (nearest), y = Shadow, z = samples (1), w = farthest depth
 layout(binding = 4, rgba32f) uniform readonly image2D history_color;
 layout(binding = 5, rgba32f) uniform readonly image2D history_passes;
 layout(std430, binding = 6) readonly buffer Frame { FrameData frame; };
@@ -39,18 +40,44 @@ vec3 to_ycocg(vec3 c) {
 }
 vec3 from_ycocg(vec3 c) { return vec3(c.x + c.y - c.z, c.x + c.z, c.x - c.y - c.z); }
 
-// Whether the segment from p towards light l crosses the box of the casters that moved.
+// Whether the paths from p to light l (a cone towards its disk) cross the
+// box of the casters that moved: the box grown by the cone's radius there,
+// against the cone's axis.
 bool light_path_crosses_change(vec3 p, int l) {
   if (frame.changed_lo.w == 0.0) return false;
   GpuLight light = lights[l];
   bool sun = uint(light.position.w) == kLightSun;
   vec3 to_light = sun ? -light.direction.xyz : light.position.xyz - p;
   float t_max = sun ? 1e30 : 1.0;
+  vec3 centre = 0.5 * (frame.changed_lo.xyz + frame.changed_hi.xyz);
+  float cone = sun ? light.direction.w * (distance(p, centre) + length(frame.changed_hi.xyz - centre))
+                   : light.direction.w;
   vec3 inv = 1.0 / to_light;
-  vec3 t0 = (frame.changed_lo.xyz - p) * inv, t1 = (frame.changed_hi.xyz - p) * inv;
+  vec3 t0 = (frame.changed_lo.xyz - cone - p) * inv, t1 = (frame.changed_hi.xyz + cone - p) * inv;
   vec3 near = min(t0, t1), far = max(t0, t1);
   float enter = max(max(max(near.x, near.y), near.z), 0.0), leave = min(min(min(far.x, far.y), far.z), t_max);
   return enter <= leave;
+}
+
+// Whether history's texel q saw depth `depth`: within the range of depths
+// its samples saw (passes x to w), give or take params.z of it.
+bool same_depth(ivec2 q, float depth) {
+  vec4 range = imageLoad(history_passes, clamp(q, ivec2(0), pc.image.xy - 1));
+  return depth >= range.x * (1.0 - pc.params.z) && depth <= range.w * (1.0 + pc.params.z);
+}
+
+// Whether a texel within params.w pixels of q saw depth `depth`. The
+// sub-pixel jitter (up to params.w pixels, the same for every pixel of a
+// frame) moves a silhouette by as much from frame to frame, so this frame's
+// sample may see a surface that q's samples never did though a neighbour's
+// did. Such history is uncertain (it may as well be what just moved away):
+// it counts as few samples.
+bool near_depth(ivec2 q, float depth) {
+  int reach = int(pc.params.w);
+  for (int dy = -reach; dy <= reach; ++dy)
+    for (int dx = -reach; dx <= reach; ++dx)
+      if (same_depth(q + ivec2(dx, dy), depth)) return true;
+  return false;
 }
 
 void main() {
@@ -62,7 +89,17 @@ void main() {
   vec4 position = imageLoad(g_position, pixel);
   imageStore(resolved_color, pixel, current);  // (where history cannot help: this sample alone)
   imageStore(resolved_passes, pixel, passes);
-  if (position.w <= 0.0 || motion.w <= 0.0) return;  // (background, or behind the last camera)
+  bool background = position.w <= 0.0;
+  if (background) {
+    // The world behind everything moves with the camera alone: where this
+    // pixel's ray met the far plane, seen from the last camera.
+    vec2 ndc = (vec2(pixel) + 0.5) / vec2(pc.image.xy) * 2.0 - 1.0;
+    vec4 far_point = inverse(frame.steady_world_to_clip) * vec4(ndc, 1.0, 1.0);
+    vec4 before = frame.previous_world_to_clip * vec4(far_point.xyz / far_point.w, 1.0);
+    if (abs(far_point.w) < 1e-20 || before.w <= 0.0) return;
+    motion = vec4(before.xy / before.w - ndc, kNothingHitDepth, 1.0);
+  }
+  if (motion.w <= 0.0) return;  // (behind the last camera)
 
   // Where the surface point was: pixel centre + motion (in pixels), read bilinearly.
   vec2 at = vec2(pixel) + 0.5 + motion.xy * 0.5 * vec2(pc.image.xy) - 0.5;
@@ -70,18 +107,23 @@ void main() {
   vec2 f = at - vec2(base);
   vec4 history = vec4(0.0);
   float history_shadow = 0.0, history_samples = 1e30, weights = 0.0;
+  float history_nearest = kNothingHitDepth, history_farthest = 0.0;
   for (int k = 0; k < 4; ++k) {
     ivec2 corner = base + ivec2(k & 1, k >> 1);
     if (any(lessThan(corner, ivec2(0))) || any(greaterThanEqual(corner, pc.image.xy))) continue;
     vec4 before = imageLoad(history_passes, corner);
-    // (depth 1e10: nothing was there; else another surface unless the depths agree)
-    if (abs(before.x - motion.z) > pc.params.z * abs(motion.z)) continue;
+    if (!same_depth(corner, motion.z)) {
+      if (!near_depth(corner, motion.z)) continue;
+      before.z = min(before.z, kNearbyHistorySamples);
+    }
     vec2 bilinear = mix(1.0 - f, f, vec2(k & 1, k >> 1));
     float w = bilinear.x * bilinear.y;
     if (w <= 0.0) continue;
     history += w * imageLoad(history_color, corner);
     history_shadow += w * before.y;
     history_samples = min(history_samples, before.z);
+    history_nearest = min(history_nearest, before.x);
+    history_farthest = max(history_farthest, before.w);
     weights += w;
   }
   if (weights < 1e-3) return;  // disoccluded
@@ -110,9 +152,12 @@ void main() {
   float shadow_history = mix(passes.y, history_shadow, kept);
 
   float samples = min(history_samples, float(pc.image.w));
-  for (int l = 0; l < pc.image.z; ++l)
+  for (int l = 0; l < pc.image.z && !background; ++l)
     if (light_path_crosses_change(position.xyz, l)) samples = min(samples, pc.params.y);
   float w = 1.0 / (samples + 1.0);  // this frame's sample's share
   imageStore(resolved_color, pixel, vec4(mix(clipped, current.rgb, w), current.a));
-  imageStore(resolved_passes, pixel, vec4(passes.x, mix(shadow_history, passes.y, w), samples + 1.0, 0.0));
+  // History's depths, moved as this surface point moved in depth since.
+  float moved = background ? 0.0 : passes.x - motion.z;
+  imageStore(resolved_passes, pixel, vec4(min(passes.x, history_nearest + moved), mix(shadow_history, passes.y, w),
+                                          samples + 1.0, max(passes.w, history_farthest + moved)));
 }

@@ -56,7 +56,7 @@ class RTSDFRenderEngine(bpy.types.RenderEngine):
                 self.update_stats("RTSDF", f"Sample {done}/{total} on {session.device}")
                 return not self.test_break()
 
-            out = session.render(data, scene.rtsdf.as_dict(), progress, scene.render.use_persistent_data)
+            out = session.render(data, self.final_render_settings(scene), progress, scene.render.use_persistent_data)
         except sync.SceneError as e:
             self.report({"ERROR"}, f"RTSDF: {e}")
             return
@@ -83,13 +83,26 @@ class RTSDFRenderEngine(bpy.types.RenderEngine):
         self.update_stats("RTSDF", f"SDF {ms['sdf']:.0f} ms | fine {ms['fine']:.0f} ms | "
                                    f"shading {ms['shade']:.0f} ms | total {ms['total']:.0f} ms | "
                                    f"{field_summary(out['stats'])}")
-        print(f"RTSDF: frame {scene.frame_current} {width}x{height} in {ms['total']:.0f} ms "
+        reuse = f", {out['effective_samples']:.1f} samples with earlier frames'" if out["scene_reused"] and \
+            out["effective_samples"] > out["samples_done"] else ""
+        print(f"RTSDF: frame {scene.frame_current} {width}x{height} in {ms['total']:.0f} ms{reuse} "
               f"(SDF {ms['sdf']:.0f}, fine {ms['fine']:.0f}, shading {ms['shade']:.0f}) on {session.device}; "
               f"{field_summary(out['stats'])}")
         for line in field_lines(out["stats"], [mesh.get("key", "?") for mesh in data["meshes"]]):
             print(f"RTSDF:   {line}")
         warn_about_fields(self, out["stats"])
 
+
+    def final_render_settings(self, scene):
+        """The scene's settings; in an animation render with Persistent Data
+        and Reuse Between Frames, Animation Samples per frame, with the
+        earlier frames' samples reprojected for the rest of Samples."""
+        settings = scene.rtsdf.as_dict()
+        if settings["animation_reuse"] and self.is_animation and scene.render.use_persistent_data:
+            fewer = min(settings["animation_samples"], settings["samples"])
+            settings.update(temporal_reuse=True, samples=fewer,
+                            history_samples=max(settings["samples"] - fewer, 1))
+        return settings
 
     # --- Viewport -----------------------------------------------------------
 
@@ -124,7 +137,7 @@ class RTSDFRenderEngine(bpy.types.RenderEngine):
             # In place, whatever changed: a deformed quad may split along its
             # other diagonal, and smooth normals follow the deformation.
             for index, mesh in enumerate(meshes):
-                if mesh["key"] in stale:
+                if mesh["owner"] in stale:
                     self.viewport.set_mesh_geometry(index, mesh)
             if any(not np.array_equal(a, b) for a, b in zip(matrices, self.matrices)):
                 self.viewport.set_transforms(matrices)

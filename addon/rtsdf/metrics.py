@@ -51,11 +51,13 @@ def leak(image, reference, unshadowed, world, least_pixels=20):
     return float(np.mean((image.mean(axis=-1)[umbra] - sky[umbra]) / safe[umbra] > 0.5))
 
 
-def flicker(frames):
-    """Mean absolute change between consecutive frames of a still scene (linear RGB)."""
+def flicker(frames, mask=None):
+    """Mean absolute change between consecutive frames (linear RGB) of a still
+    scene, or over the pixels `mask` (H, W) picks: those nothing moves over."""
     if len(frames) < 2:
         return 0.0
-    return float(np.mean([np.abs(b - a).mean() for a, b in zip(frames[:-1], frames[1:])]))
+    pick = (lambda change: change[mask]) if mask is not None else (lambda change: change)
+    return float(np.mean([pick(np.abs(b - a)).mean() for a, b in zip(frames[:-1], frames[1:])]))
 
 
 def compare(image, reference, reference_unshadowed):

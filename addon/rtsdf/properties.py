@@ -64,6 +64,15 @@ class RTSDFSettings(bpy.types.PropertyGroup):
     samples: IntProperty(
         name="Samples", default=16, min=1, max=1024,
         description="Accumulation frames for a final render (sub-pixel and shadow jitter each)")
+    animation_reuse: BoolProperty(
+        name="Reuse Between Frames", default=False,
+        description="Animation renders with Persistent Data (Performance panel): each frame renders Animation "
+                    "Samples and carries the earlier frames' samples over where they still show the same surface "
+                    "(reprojected and variance-clipped, as the viewport's Temporal Reuse), standing in for the rest "
+                    "of Samples. Faster; where shadows move, fewer samples. Off: every frame renders in full")
+    animation_samples: IntProperty(
+        name="Animation Samples", default=4, min=1, max=1024,
+        description="Accumulation frames per frame of an animation render with Reuse Between Frames")
     sdf_updates: IntProperty(
         name="SDF Updates", default=4, min=0, max=1024,
         description="Fine-SDF updates in a final render, one in each of the first accumulation frames "

@@ -111,25 +111,45 @@ def camera_data(depsgraph, camera, width, height):
     }
 
 
+def geometry_key(instance):
+    """(key, owner): what names an instance's evaluated geometry, so that
+    instances of one mesh share it, and the object whose geometry updates
+    make it stale. Collection and particle instances of an object share that
+    object's mesh. Geometry Nodes instances come as copies of the object
+    whose modifier made them, each holding the instanced mesh: those are
+    told apart by that mesh (its evaluated data, which all instances of it
+    share)."""
+    obj = instance.object
+    owner = obj.original.name
+    made_by_parent = instance.is_instance and instance.parent is not None and \
+        instance.parent.original == obj.original
+    if not made_by_parent or obj.data is None:
+        return owner, owner
+    return f"{owner}/{obj.data.name}@{obj.data.as_pointer():x}", owner
+
+
 def geometry(depsgraph, cache=None, stale=None):
     """(meshes, instances) as the native module takes them. With `cache` (a
-    dict kept by the caller, mesh key -> arrays), a mesh whose key is not in
-    `stale` (a set; None: all stale) is taken from the cache instead of being
-    read again. Each mesh dict carries its "key"."""
+    dict kept by the caller, mesh key -> arrays), a mesh whose owner (see
+    geometry_key) is not in `stale` (a set of object names; None: all stale)
+    is taken from the cache instead of being read again. Each mesh dict
+    carries its "key" and "owner"."""
     meshes, instances, mesh_index = [], [], {}
     for instance in depsgraph.object_instances:
         obj = instance.object
         if obj.type not in GEOMETRY_TYPES:
             continue
-        # Instances of one object share its triangles; only their transforms differ.
-        key = obj.original.name if instance.is_instance else obj.name
+        if not instance.is_instance and not instance.show_self:
+            continue  # (an instancer shown through its instances only, e.g. a particle emitter)
+        # Instances of one mesh share its triangles; only their transforms differ.
+        key, owner = geometry_key(instance)
         if key not in mesh_index:
-            if cache is not None and key in cache and stale is not None and key not in stale:
+            if cache is not None and key in cache and stale is not None and owner not in stale:
                 arrays = cache[key]
             else:
                 arrays = mesh_arrays(obj)
                 if arrays is not None:
-                    arrays["key"] = key
+                    arrays["key"], arrays["owner"] = key, owner
                 if cache is not None:
                     cache[key] = arrays
             mesh_index[key] = None if arrays is None else len(meshes)
@@ -141,6 +161,9 @@ def geometry(depsgraph, cache=None, stale=None):
                           "color": base_color(obj),
                           # Object Properties > Visibility > Ray Visibility > Shadow
                           "casts_shadow": bool(getattr(obj, "visible_shadow", True))})
+    if cache is not None:
+        for gone in set(cache) - set(mesh_index):  # (objects deleted, geometry evaluated anew)
+            del cache[gone]
     if not instances:
         raise SceneError("Nothing to render: the scene has no objects with faces")
     return meshes, instances

@@ -30,7 +30,7 @@ class RTSDF_PT_settings(bpy.types.Panel):
                     ("Fine SDF", ("beta", "trace_band", "decay", "rays_per_texel")),
                     ("Shadows", ("shadow_method", "exact_rays", "shadow_epsilon", "shadow_max_steps", "max_step",
                                  "shadow_map_size")),
-                    ("Render", ("samples", "sdf_updates")),
+                    ("Render", ("samples", "sdf_updates", "animation_reuse", "animation_samples")),
                     ("Viewport", ("viewport_samples", "viewport_scale", "viewport_interleave", "viewport_quick_first_frame",
                                   "viewport_temporal_reuse")))
         for heading, names in sections:

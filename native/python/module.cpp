@@ -181,6 +181,7 @@ rtsdf::RenderSettings settings_of(const py::dict& settings_desc) {
   settings.field_budget_mb = get<double>(settings_desc, "field_budget_mb", settings.field_budget_mb);
   settings.quick_first_frame = get<bool>(settings_desc, "quick_first_frame", settings.quick_first_frame);
   settings.temporal_reuse = get<bool>(settings_desc, "temporal_reuse", settings.temporal_reuse);
+  settings.history_samples = get<int>(settings_desc, "history_samples", settings.history_samples);
   return settings;
 }
 
@@ -388,8 +389,14 @@ class Session {
     bool reused = false;
     {
       py::gil_scoped_release release;
-      reused = persistent && gpu_scene_ && same_geometry(scene);
+      reused = persistent && gpu_scene_ && same_shapes(scene);
       if (reused) {
+        // (smooth normals evaluated again differ in their last bits: new normals reach the rasterizer only)
+        for (size_t m = 0; m < meshes_.size(); ++m)
+          if (scene.meshes[m].normals != meshes_[m].normals) {
+            gpu_scene_->set_mesh(uint32_t(m), scene.meshes[m]);
+            meshes_[m].normals = scene.meshes[m].normals;
+          }
         std::vector<glm::mat4> transforms;
         for (const rtsdf::Instance& instance : scene.instances) transforms.push_back(instance.object_to_world);
         gpu_scene_->set_transforms(transforms);
@@ -409,18 +416,20 @@ class Session {
     result["stats"] = stats_of(out.stats);
     result["validation_messages"] = context_->validation_message_count();
     result["samples_done"] = out.samples_done;
+    // (with temporal reuse, history's samples too)
+    result["effective_samples"] = settings.temporal_reuse ? out.effective_samples : double(out.samples_done);
     result["scene_reused"] = reused;
     return result;
   }
 
  private:
-  // The same meshes (vertices, triangles) and instances of the same meshes,
-  // colours and shadow flags as the scene on the device: only transforms may differ.
-  bool same_geometry(const rtsdf::Scene& scene) const {
+  // The same mesh shapes (vertices, triangles) and instances of the same
+  // meshes, colours and shadow flags as the scene on the device: only
+  // transforms and normals may differ.
+  bool same_shapes(const rtsdf::Scene& scene) const {
     if (scene.meshes.size() != meshes_.size() || scene.instances.size() != instances_.size()) return false;
     for (size_t m = 0; m < meshes_.size(); ++m)
-      if (scene.meshes[m].positions != meshes_[m].positions || scene.meshes[m].indices != meshes_[m].indices ||
-          scene.meshes[m].normals != meshes_[m].normals)
+      if (scene.meshes[m].positions != meshes_[m].positions || scene.meshes[m].indices != meshes_[m].indices)
         return false;
     for (size_t i = 0; i < instances_.size(); ++i)
       if (scene.instances[i].mesh != instances_[i].mesh || scene.instances[i].base_color != instances_[i].base_color ||

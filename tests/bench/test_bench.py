@@ -61,7 +61,8 @@ class QuickRun(unittest.TestCase):
                 reader = csv.DictReader(f)
                 self.assertEqual(reader.fieldnames, ["scene", "method", "setting", "ms_per_frame", "shadow_rmse",
                                                      "ssim", "flicker", "ghost_frames", "leak", "field_mb",
-                                                     "dense_mb"])
+                                                     "dense_mb", "playback_rmse", "playback_ratio",
+                                                     "playback_flicker", "playback_rmse_no_reuse"])
                 rows = list(reader)
             methods = {row["method"] for row in rows}
             self.assertEqual(methods, {"cycles", "rtsdf", "rtsdf_world", "rt_only", "jfa_only", "csm_evsm", "raytraced", "eevee"})
@@ -74,6 +75,14 @@ class QuickRun(unittest.TestCase):
             # Its refined fields keep their bricks and far fields, not dense grids.
             self.assertLess(float(first["field_mb"]), float(first["dense_mb"]) / 4, first)
             self.assertEqual(first["ghost_frames"], "1", first)
+            # Its playback figures, and EEVEE's: the shown frame's error, and its ratio to the still frame's.
+            eevee = next(row for row in rows if row["method"] == "eevee")
+            for row in (first, eevee):
+                self.assertTrue(0.0 < float(row["playback_rmse"]) < 1.0, row)
+                still = float(row["playback_rmse"]) / float(row["playback_ratio"])
+                self.assertTrue(0.0 < still < 1.0, row)
+                self.assertGreaterEqual(float(row["playback_flicker"]), 0.0, row)
+            self.assertTrue(0.0 < float(first["playback_rmse_no_reuse"]) < 1.0, first)
             self.assertGreater(os.path.getsize(os.path.join(out, "speed_accuracy.png")), 10000)
             with open(os.path.join(out, "summary.md")) as f:
                 self.assertIn("| sphere_plane |", f.read())
