@@ -53,6 +53,7 @@ gpu::GpuLight to_gpu(const Light& light) {
       out.spot = glm::vec4(-2.0f, 1.0f, 1.0f, 0.0f);
       break;
   }
+  out.spot.w = light.casts_shadow ? 0.0f : 1.0f;
   return out;
 }
 

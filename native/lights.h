@@ -20,6 +20,7 @@ struct Light {
   float radius = 0.0f;      // point, spot: shadow_soft_size; area: half the size
   float spot_size = 0.0f;   // spot: full cone angle in radians
   float spot_blend = 0.0f;  // spot: 0..1
+  bool casts_shadow = true;  // off: lights every surface it faces, through anything (Blender's Cast Shadow)
 };
 
 // Throws rtsdf::Error for NaN values or negative energies and sizes.

@@ -157,7 +157,9 @@ void main() {
       LightPath path = light_path(l, p, origin);
       if (!faces_light(path, n)) continue;
       float v;
-      if (kShadeStage == kShadeShared) {
+      if (lights[l].spot.w > 0.5) {
+        v = 1.0;  // (its shadow switched off)
+      } else if (kShadeStage == kShadeShared) {
         v = shared_visibility(pixel, p, n, l);
         if (v < 0.0) {
           list_for_fill(pixel);

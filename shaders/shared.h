@@ -102,7 +102,8 @@ struct GpuLight {
   vec4 position;   // xyz = world position (not for suns), w = type
   vec4 direction;  // xyz = direction the light shines along, w = tan(angular radius) for suns, else radius (world)
   vec4 radiance;   // rgb = value of a white diffuse surface facing the light at distance 1 (sun: any distance)
-  vec4 spot;       // x = cos(half cone angle), y = blend width in cosine, z = 1 for a one-sided emitter (area)
+  vec4 spot;       // x = cos(half cone angle), y = blend width in cosine, z = 1 for a one-sided emitter (area),
+                   // w = 1 for a light that casts no shadow
 };
 
 // Per-frame camera data (a storage buffer, so push constants stay small).

@@ -21,6 +21,10 @@ class RTSDFRenderEngine(bpy.types.RenderEngine):
     bl_label = "RTSDF"
     bl_use_preview = False
     bl_use_postprocess = True
+    # Materials are Blender's own node trees (the Shader Editor edits them),
+    # and Material Preview shading is EEVEE's.
+    bl_use_shading_nodes_custom = False
+    bl_use_eevee_viewport = True
 
     def __init__(self):
         self.viewport = None      # native Viewport of this engine instance (viewport instances only)

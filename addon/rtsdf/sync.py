@@ -59,6 +59,15 @@ def base_color(obj):
     return tuple(material.diffuse_color[:3])
 
 
+def light_casts_shadow(light):
+    """The light's shadow toggle as Cycles reads it: Cast Shadow in Blender
+    3.x's Cycles settings, `use_shadow` since 4.0 (3.x's use_shadow is EEVEE's)."""
+    cycles = getattr(light, "cycles", None)
+    if cycles is not None and hasattr(cycles, "cast_shadow"):
+        return bool(cycles.cast_shadow)
+    return bool(getattr(light, "use_shadow", True))
+
+
 def light_data(light, matrix):
     direction = (matrix.to_3x3() @ Vector((0.0, 0.0, -1.0))).normalized()
     data = {
@@ -67,6 +76,7 @@ def light_data(light, matrix):
         "direction": tuple(direction),
         "color": tuple(light.color),
         "energy": float(light.energy),
+        "casts_shadow": light_casts_shadow(light),
     }
     if light.type == "SUN":
         data["angle"] = float(light.angle)

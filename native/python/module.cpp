@@ -142,6 +142,7 @@ std::vector<rtsdf::Light> lights_of(const py::list& lights_desc) {
     light.energy = d["energy"].cast<float>();
     light.sun_angle = get<float>(d, "angle", 0.0f);
     light.radius = get<float>(d, "radius", 0.0f);
+    light.casts_shadow = get<bool>(d, "casts_shadow", true);
     light.spot_size = get<float>(d, "spot_size", 0.0f);
     light.spot_blend = get<float>(d, "spot_blend", 0.0f);
     lights.push_back(light);

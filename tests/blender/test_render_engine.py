@@ -118,6 +118,17 @@ class RenderEngine(unittest.TestCase):
         self.assertLess(rmse, RMSE_TOLERANCE)
         self.assertGreater(np.abs(rtsdf_image - without).max(), 0.2, "the instances show")
 
+    def test_lights_with_their_shadow_off_cast_none_as_in_cycles(self):
+        _, shadowed = render("RTSDF", self.tmp.name, "shadow_on", samples=4)
+        for light in bpy.data.lights:
+            light.cycles.cast_shadow = False  # (use_shadow in Blender 4.x)
+        _, rtsdf_image = render("RTSDF", self.tmp.name, "shadow_off", samples=4)
+        _, cycles = render("CYCLES", self.tmp.name, "shadow_off_cycles")
+        rmse = float(np.sqrt(np.mean((rtsdf_image[..., :3] - cycles[..., :3]) ** 2)))
+        print(f"lights' shadows off, RTSDF against Cycles: RMSE {rmse:.4f}")
+        self.assertLess(rmse, RMSE_TOLERANCE)
+        self.assertGreater((rtsdf_image - shadowed)[..., :3].max(), 0.2, "where the shadows were is lit now")
+
     def test_point_spot_and_area_lights_close_to_cycles(self):
         # Light units, falloff, spot cone and area cosine as Cycles has them
         # (measured about 0.06 at full resolution and 256 Cycles samples).
