@@ -73,10 +73,44 @@ constexpr MethodName kMethodNames[] = {{ShadowMethod::Rtsdf, "rtsdf"},
                                        {ShadowMethod::RtOnly, "rt_only"},
                                        {ShadowMethod::JfaOnly, "jfa_only"},
                                        {ShadowMethod::CsmEvsm, "csm_evsm"},
+                                       {ShadowMethod::CsmJitter, "csm_jitter"},
                                        {ShadowMethod::RayTraced, "raytraced"}};
 
 // The whole scene's fine SDF (world space).
 bool uses_fine_sdf(ShadowMethod method) { return method == ShadowMethod::RtsdfWorld || method == ShadowMethod::RtOnly; }
+
+bool uses_shadow_maps(ShadowMethod method) { return method == ShadowMethod::CsmEvsm || method == ShadowMethod::CsmJitter; }
+
+// csm_jitter's filter: a texel's width, for anti-aliasing only (the penumbra
+// comes from the moving origin).
+constexpr float kJitteredMapFilterTexels = 1.0f;
+
+// `light` moved to the point of its disk that sample `index` of a uniform
+// disk sequence picks: a sun's direction within its angular radius, a local
+// light's position across its radius, facing `target`.
+Light jittered_light(const Light& light, uint32_t index, glm::vec3 target) {
+  // Concentric mapping of (Halton 5, 7) to the unit disk (Shirley and Chiu).
+  const glm::vec2 u(2.0f * halton(index, 5) - 1.0f, 2.0f * halton(index, 7) - 1.0f);
+  glm::vec2 disk(0.0f);
+  if (u.x != 0.0f || u.y != 0.0f) {
+    const float quarter = float(M_PI) / 4.0f;
+    disk = std::abs(u.x) > std::abs(u.y) ? u.x * glm::vec2(std::cos(quarter * u.y / u.x), std::sin(quarter * u.y / u.x))
+                                         : u.y * glm::vec2(std::sin(quarter * u.x / u.y), std::cos(quarter * u.x / u.y));
+  }
+  Light moved = light;
+  const glm::vec3 axis = light.type == LightType::Sun ? glm::normalize(light.direction)
+                         : glm::length(target - light.position) > 0.0f ? glm::normalize(target - light.position)
+                                                                        : glm::vec3(0.0f, 0.0f, -1.0f);
+  const glm::vec3 hint = std::abs(axis.z) < 0.9f ? glm::vec3(0, 0, 1) : glm::vec3(0, 1, 0);
+  const glm::vec3 right = glm::normalize(glm::cross(axis, hint)), up = glm::cross(right, axis);
+  const glm::vec3 offset = disk.x * right + disk.y * up;
+  if (light.type == LightType::Sun)
+    moved.direction = glm::normalize(axis + std::tan(0.5f * std::min(light.sun_angle, 3.0f)) * offset);
+  else
+    moved.position = light.position + light.radius * offset;
+  moved.sun_angle = 0.0f, moved.radius = 0.0f;  // (each map is of one point of the light)
+  return moved;
+}
 
 ObjectFieldSettings object_field_settings(const RenderSettings& settings, const FineTraceSettings& fine) {
   ObjectFieldSettings objects;
@@ -194,7 +228,7 @@ void Renderer::rebuild_sdfs(GpuScene& scene, const RenderSettings& settings) {
   field_voxels_.assign(scene.instances().size(), 0.0f);
   const ShadowMethod method = settings.shadow_method;
   // Another method's fields hold memory this one does not read.
-  const bool world_field = has_casters_ && method != ShadowMethod::Rtsdf && method != ShadowMethod::CsmEvsm &&
+  const bool world_field = has_casters_ && method != ShadowMethod::Rtsdf && !uses_shadow_maps(method) &&
                            method != ShadowMethod::RayTraced;
   if (method != ShadowMethod::Rtsdf) object_fields_.clear();
   if (!world_field) {
@@ -203,11 +237,11 @@ void Renderer::rebuild_sdfs(GpuScene& scene, const RenderSettings& settings) {
     coarse_.release();
   }
   if (!uses_fine_sdf(method)) fine_.release();
-  if (!has_casters_ || method == ShadowMethod::CsmEvsm || method == ShadowMethod::RayTraced) {
-    // Nothing to march (csm_evsm needs no SDF): its casters are still told
+  if (!has_casters_ || uses_shadow_maps(method) || method == ShadowMethod::RayTraced) {
+    // Nothing to march (shadow maps need no SDF): their casters are still told
     // apart from receivers (they look themselves up off their surface).
     march_.place({});
-    if (method == ShadowMethod::CsmEvsm)
+    if (uses_shadow_maps(method))
       for (uint32_t i : scene.shadow_casters()) field_voxels_[i] = 1.0f;
     if (method == ShadowMethod::RayTraced && has_casters_) scene.ray_structures();  // (built now, not in a frame)
     return;
@@ -363,14 +397,20 @@ void Renderer::begin(GpuScene& scene, const Camera& camera, const std::vector<Li
       push_.surface.x = settings.shadow_epsilon + settings.beta + 1.0f;
       break;
     case ShadowMethod::CsmEvsm:
+    case ShadowMethod::CsmJitter: {
       if (!shadow_maps_) shadow_maps_ = std::make_unique<ShadowMapPass>(context_);
-      shadow_maps_->setup(scene, lights, camera.world_to_view, camera.projection, settings.shadow_map_size);
+      // csm_jitter fits its maps again every frame, to the light's next point.
+      const float filter = settings.shadow_method == ShadowMethod::CsmJitter ? kJitteredMapFilterTexels : 0.0f;
+      shadow_map_lights_ = lights;
+      shadow_map_camera_ = camera;
+      shadow_maps_->setup(scene, lights, camera.world_to_view, camera.projection, settings.shadow_map_size, filter);
       push_.visibility.x = gpu::kVisibilityShadowMaps;
       push_.visibility.y = uint32_t(shadow_maps_->tile_size());
       push_.surface = glm::vec4(0.0f, 1.0f, 0.0f, 0.0f);  // a texel off their own depth in the maps
       push_.evsm = glm::vec4(ShadowMapPass::kPositiveExponent, ShadowMapPass::kNegativeExponent,
-                             ShadowMapPass::kLightBleedingReduction, 0.0f);
+                             ShadowMapPass::kLightBleedingReduction, filter);
       break;
+    }
     case ShadowMethod::RayTraced:
       push_.visibility.x = gpu::kVisibilityRayTraced;
       push_.surface.x = 0.0f;  // (rays start off the surface on their own)
@@ -404,7 +444,15 @@ void Renderer::add_frame() {
   stats_.traced_texels += stats_.last_frame_traced_texels;
   timings_.fine_ms += ms_since(start);
   const Clock::time_point maps = Clock::now();
-  if (settings_.shadow_method == ShadowMethod::CsmEvsm && due(shadow_map_renders_)) {
+  if (settings_.shadow_method == ShadowMethod::CsmJitter && has_casters_) {
+    // Every frame from another point of each light (sdf_updates does not stop it: the frames' mean is the penumbra).
+    std::vector<Light> moved;
+    const glm::vec3 target = 0.5f * (scene_->bounds().lo + scene_->bounds().hi);
+    for (const Light& light : shadow_map_lights_) moved.push_back(jittered_light(light, sequence_, target));
+    shadow_maps_->setup(*scene_, moved, shadow_map_camera_.world_to_view, shadow_map_camera_.projection,
+                        settings_.shadow_map_size, kJitteredMapFilterTexels);
+    context_.submit_and_wait([&](VkCommandBuffer cmd) { shadow_maps_->record(cmd, *scene_); });
+  } else if (settings_.shadow_method == ShadowMethod::CsmEvsm && due(shadow_map_renders_)) {
     context_.submit_and_wait([&](VkCommandBuffer cmd) { shadow_maps_->record(cmd, *scene_); });
     shadow_map_renders_++;
   }
@@ -420,7 +468,7 @@ void Renderer::add_frame() {
   std::memcpy(frame_buffer_.mapped(), &frame_data_, sizeof frame_data_);
   push_.image = glm::ivec4(width_, height_, light_count_, frame_);
   push_.sequence = glm::uvec4(sequence_, 0u, 0u, 0u);
-  const ShadowMapPass* shadow_maps = settings_.shadow_method == ShadowMethod::CsmEvsm ? shadow_maps_.get() : nullptr;
+  const ShadowMapPass* shadow_maps = uses_shadow_maps(settings_.shadow_method) ? shadow_maps_.get() : nullptr;
   const bool traces_rays =
       push_.visibility.x == gpu::kVisibilityRayTraced || push_.visibility.x == gpu::kVisibilityHybrid;
   const GpuScene::RayStructures* rays = traces_rays && has_casters_ ? &scene_->ray_structures() : nullptr;

@@ -37,14 +37,17 @@ inline FineTraceSettings shading_fine_settings() {
 }
 
 // Where shadows come from. Settings and Python name them rtsdf, rtsdf_world,
-// rt_only, jfa_only, csm_evsm and raytraced.
+// rt_only, jfa_only, csm_evsm, csm_jitter and raytraced.
 enum class ShadowMethod {
   Rtsdf,       // the paper's fields (coarse by jump flooding, fine ray traced in a band around surfaces), one per
                // mesh in its own space, shared by its instances (object_fields.h)
   RtsdfWorld,  // the paper as published: one field of the whole scene in world space, rebuilt after any change
   RtOnly,   // the whole scene's fine SDF ray traced at every texel of its grid (no band), every frame
   JfaOnly,  // no fine SDF: the march reads the coarse (jump-flooded, unsigned) SDF
-  CsmEvsm,  // no SDF: cascaded shadow maps filtered as EVSM (the paper's comparison)
+  CsmEvsm,  // no SDF: cascaded shadow maps filtered as EVSM (the paper's comparison), as wide as the penumbra a
+            // blocker search finds (PCSS)
+  CsmJitter,  // no SDF: the same shadow maps, sharp, their origin moved to another point of each light every
+              // frame (EEVEE's soft shadows): the frames' mean converges towards the true penumbra
   RayTraced,  // no SDF: a ray through the BVHs towards a random point of each light (and two over the sky's
               // hemisphere) per frame, averaging to the exact visibility over the samples: the reference that
               // tells the fields' error from the shading's
@@ -62,7 +65,7 @@ struct RenderSettings {
   float shadow_epsilon = 1.0f;   // voxels of the field marched: fine (jfa_only: coarse); the paper: at least one
   int shadow_max_steps = 96;
   float max_step = 4.0f;         // voxels of the field marched, as shadow_epsilon
-  int shadow_map_size = 1024;    // csm_evsm: texels per side of each cascade (and spot view, cube face)
+  int shadow_map_size = 1024;    // csm_evsm, csm_jitter: texels per side of each cascade (and spot view, cube face)
   // Signed-field methods (rtsdf, rtsdf_world, rt_only): where the march cannot
   // tell lit from shadowed with shadow_epsilon to spare (penumbrae, contact,
   // occluders thinner than the field resolves), this many rays per light and
@@ -256,6 +259,8 @@ class Renderer {
   glm::mat4 world_to_clip_{1.0f};
   int light_count_ = 0;
   std::vector<gpu::GpuLight> lights_;  // as last uploaded: a view-only change keeps the shadow casters
+  std::vector<Light> shadow_map_lights_;  // csm_jitter: the lights whose points its maps move over
+  Camera shadow_map_camera_;              // csm_jitter: the camera its maps are fitted to
   std::vector<Bounds> sky_blockers_;   // found with the shadow casters
   vk::Buffer light_buffer_;
   vk::Buffer frame_buffer_;

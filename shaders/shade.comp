@@ -9,75 +9,21 @@
 // capped at max_step) with the cone penumbra, improved by Aaltonen's
 // triangulation between consecutive samples (Claybook, GDC 2018): the signed
 // fine SDF, or for the jfa_only baseline the unsigned coarse one, bound to
-// the same bindings; or, for the csm_evsm baseline, looks up EVSM shadow
-// maps; or, for raytraced, traces rays through the scene's BVHs towards a
+// the same bindings; or, for the shadow-map baselines, looks up EVSM shadow
+// maps (shadow_map_lookup.glsl.h); or, for raytraced, traces rays through the scene's BVHs towards a
 // random point of each light every frame, which average over accumulation
 // frames to the exact share. Only visibility differs between the methods. The fields
 // (sdf_fields.glsl.h) are many in the object-space design, one per placed
 // mesh, and one for the whole-scene methods. The pipeline's kShadeStage
 // says which pixels it shades and whether it marches (shade_inputs.glsl.h).
 #include "shared.h"
-#include "evsm.glsl.h"
 
 layout(local_size_x = 8, local_size_y = 8) in;
 #include "shade_inputs.glsl.h"  // the G-buffer, the frame, the lights, the fields, the march, the quad samples
 layout(binding = 6, rgba32f) uniform image2D accum_color;   // rgb = Combined, a = coverage
 // x = Depth (the nearest seen), y = Shadow (visibility), z = samples in the mean, w = the farthest depth seen
 layout(binding = 7, rgba32f) uniform image2D accum_passes;
-layout(binding = 8, rgba32f) uniform readonly image2D shadow_atlas;  // EVSM moments (csm_evsm)
-layout(std430, binding = 9) readonly buffer ShadowTiles { ShadowTile shadow_tiles[]; };
-layout(std430, binding = 10) readonly buffer ShadowLights { ShadowLightTiles shadow_lights[]; };
-
-// Bilinear sample of a tile's moments at `texel` (continuous, 0 to size across the tile).
-vec4 shadow_moments(ShadowTile tile, vec2 texel) {
-  int last = int(pc.visibility.y) - 1;
-  vec2 q = clamp(texel - 0.5, vec2(0.0), vec2(last));
-  ivec2 i0 = ivec2(floor(q)), i1 = min(i0 + 1, ivec2(last));
-  vec2 f = q - vec2(i0);
-  ivec2 o = tile.atlas.xy;
-  vec4 a = mix(imageLoad(shadow_atlas, o + i0), imageLoad(shadow_atlas, o + ivec2(i1.x, i0.y)), f.x);
-  vec4 b = mix(imageLoad(shadow_atlas, o + ivec2(i0.x, i1.y)), imageLoad(shadow_atlas, o + i1), f.x);
-  return mix(a, b, f.y);
-}
-
-// Where `p` falls in a tile: texel (x, y) and view depth (z); w < 0: outside
-// it (beyond its border margin, or beyond its far plane, where casters behind
-// were not drawn).
-vec4 tile_position(ShadowTile tile, vec3 p) {
-  vec4 clip = tile.world_to_clip * vec4(p, 1.0);
-  float size = float(pc.visibility.y), margin = float(tile.atlas.z);
-  vec2 texel = (clip.xy / max(clip.w, 1e-20) * 0.5 + 0.5) * size;
-  float depth = dot(tile.depth_axis.xyz, p) + tile.depth_axis.w;
-  bool inside = clip.w > 0.0 && all(greaterThanEqual(texel, vec2(margin))) &&
-                all(lessThanEqual(texel, vec2(size - margin))) && (depth - tile.depth_range.x) * tile.depth_range.y <= 1.0;
-  return vec4(texel, depth, inside ? 1.0 : -1.0);
-}
-
-// csm_evsm: the share of light `light` reaching `p`, from the first of its
-// tiles (the finest cascade) that holds p clear of the blur's border; 1 where
-// none does. `casts`: p's surface is in the maps itself, so it is looked up a
-// texel off along the normal.
-float shadow_map_visibility(int light, vec3 p, vec3 n, bool casts) {
-  ShadowLightTiles range = shadow_lights[light];
-  for (uint i = 0u; i < range.count; ++i) {
-    ShadowTile tile = shadow_tiles[range.first + i];
-    vec4 at = tile_position(tile, p);
-    if (at.w < 0.0) continue;
-    float texel_world = tile.depth_range.z + tile.depth_range.w * max(at.z, 0.0);
-    if (casts) at = tile_position(tile, p + n * (pc.surface.y * texel_world));
-    vec4 moments = shadow_moments(tile, at.xy);
-    vec2 warped = evsm_warp((at.z - tile.depth_range.x) * tile.depth_range.y, pc.evsm.xy);
-    // The least variance: what a depth error of half a texel's width would
-    // give (d warp / d world = c |warp| dx/d world, dx/d world = 2 / range).
-    vec2 spread = pc.evsm.xy * abs(warped) * (tile.depth_range.y * texel_world);
-    float v = min(chebyshev_upper_bound(moments.xy, warped.x, spread.x * spread.x),
-                  chebyshev_upper_bound(moments.zw, warped.y, spread.y * spread.y));
-    // Light-bleeding reduction: the bound's low tail (light leaking through
-    // overlapping occluders) is cut to full shadow.
-    return clamp((v - pc.evsm.z) / (1.0 - pc.evsm.z), 0.0, 1.0);
-  }
-  return 1.0;
-}
+#include "shadow_map_lookup.glsl.h"  // csm_evsm, csm_jitter
 
 // This pixel's share of the world light (light < 0) or of light `light`
 // from the quad pass's samples of the four quads around it that lie on its
@@ -166,7 +112,7 @@ void main() {
           return;
         }
       } else if (kVisibilityMode == kVisibilityShadowMaps) {
-        v = shadow_map_visibility(l, p, n, in_sdf);
+        v = shadow_map_visibility(l, p, n, path.dir, in_sdf, jitter);
       } else {
         v = march_light(path, origin, n, receiver_voxel, jitter, pixel);
       }

@@ -154,7 +154,7 @@ const float kNothingHitDepth = 1e10;
 // What the shading's visibility reads (ShadePush::visibility.x).
 const uint kVisibilitySignedSdf = 0u;    // march signed fields: fine SDFs (rtsdf, rtsdf_world, rt_only)
 const uint kVisibilityUnsignedSdf = 1u;  // march an unsigned field: the coarse SDF (jfa_only)
-const uint kVisibilityShadowMaps = 2u;   // look up EVSM shadow maps (csm_evsm)
+const uint kVisibilityShadowMaps = 2u;   // look up EVSM shadow maps (csm_evsm, csm_jitter)
 const uint kVisibilityRayTraced = 3u;    // trace rays through the BVH towards a point of each light (raytraced)
 const uint kVisibilityHybrid = 4u;       // march signed fields, and where they cannot tell lit from shadowed with
                                          // epsilon to spare, trace rays (the SDF methods with exact_rays > 0)
@@ -222,18 +222,23 @@ struct ShadePush {
   vec4 surface;       // x = a caster's march origin, off its surface along the normal (voxels of its field),
                       // y = the shadow-map lookup's offset (texels), z = rays per light where the field is
                       // uncertain (kVisibilityHybrid)
-  vec4 evsm;          // x = positive exponent c+, y = negative exponent c-, z = light-bleeding reduction
+  vec4 evsm;          // x = positive exponent c+, y = negative exponent c-, z = light-bleeding reduction,
+                      // w = filter radius (texels; 0: from a blocker search, as wide as the penumbra)
   uvec4 sequence;     // x = this frame's index in the jitter sequences: the accumulation frame, counted on
                       // across frame changes whose history is kept, so reused samples and new ones differ
 };
 
-// Shadow maps (csm_evsm). Every view (a sun's cascade, a spot light's view, a
-// face of a point or area light's cube) is one square tile of one atlas.
+// Shadow maps (csm_evsm, csm_jitter). Every view (a sun's cascade, a spot
+// light's view, a face of a point or area light's cube) is one square tile of one atlas.
 struct ShadowTile {
   mat4 world_to_clip;  // Vulkan clip space of the view (x, y in [-1, 1] across the tile, z in [0, 1])
   vec4 depth_axis;     // view depth (world units) = dot(xyz, p) + w
   vec4 depth_range;    // x = near, y = 1 / (far - near) (view depth), z = world size of a texel at view depth 0, w = its growth per unit depth
-  ivec4 atlas;         // xy = the tile's first texel in the atlas, z = texels kept clear of its border when picking it (the blur's reach)
+  vec4 light;          // the light's size as the penumbra's width follows it: x = tan of a sun's angular radius
+                       // (penumbra = x * (receiver - blocker depth)), or a local light's radius (penumbra =
+                       // x * (receiver - blocker) / blocker); y = 1 for a local light's view, 0 for a sun's
+  ivec4 atlas;         // xy = the tile's first texel in the atlas, z = texels kept clear of its border when picking
+                       // it: the filter's widest reach
 };
 
 // A light's tiles: [first, first + count), finest first.
@@ -253,12 +258,6 @@ struct ShadowMapPush {
   uint pad0;
 };
 
-struct EvsmBlurPush {
-  ivec4 source;  // xy = the tile's first texel in the source image, z = tile size, w = axis (0: x, 1: y)
-  ivec4 target;  // xy = the tile's first texel in the target image
-  vec4 radius;   // x = box radius in texels (the end taps weighted by the fraction)
-};
-
 #ifdef __cplusplus
 static_assert(sizeof(BvhNode) == 48, "BvhNode layout");
 static_assert(sizeof(WindingDipole) == 32, "WindingDipole layout");
@@ -269,10 +268,9 @@ static_assert(sizeof(ShadePush) == 112, "ShadePush layout");
 static_assert(sizeof(TemporalPush) == 32, "TemporalPush layout");
 static_assert(sizeof(FieldInstance) == 160, "FieldInstance layout");
 static_assert(sizeof(FieldPackPush) == 96, "FieldPackPush layout");
-static_assert(sizeof(ShadowTile) == 112, "ShadowTile layout");
+static_assert(sizeof(ShadowTile) == 128, "ShadowTile layout");
 static_assert(sizeof(ShadowLightTiles) == 16, "ShadowLightTiles layout");
 static_assert(sizeof(ShadowMapPush) == 96, "ShadowMapPush layout");
-static_assert(sizeof(EvsmBlurPush) == 48, "EvsmBlurPush layout");
 static_assert(sizeof(RayInstance) == 144, "RayInstance layout");
 static_assert(sizeof(FinePush) == 128, "FinePush layout");
 static_assert(sizeof(VoxelizePush) == 96, "VoxelizePush layout");

@@ -14,7 +14,12 @@ class RTSDFSettings(bpy.types.PropertyGroup):
                 "The paper as published: one field of the whole scene, rebuilt whenever anything moves"),
                ("rt_only", "RT only", "Baseline: the fine SDF ray traced at every texel of its grid, every frame"),
                ("jfa_only", "JFA only", "Baseline: shadows marched through the jump-flooded coarse SDF alone"),
-               ("csm_evsm", "CSM + EVSM", "Baseline: cascaded shadow maps filtered as exponential variance shadow maps"),
+               ("csm_evsm", "CSM + EVSM",
+                "Baseline: cascaded shadow maps filtered as exponential variance shadow maps, as wide as the "
+                "penumbra a blocker search finds (PCSS)"),
+               ("csm_jitter", "CSM Jittered",
+                "Baseline: sharp cascaded shadow maps whose origin moves over the light every sample, as EEVEE's "
+                "soft shadows do; converges towards the true penumbra over the samples"),
                ("raytraced", "Ray Traced",
                 "Reference: exact shadow rays through the scene's BVHs towards a random point of each light, "
                 "averaging to the exact soft shadow over the samples (slow)")),
@@ -27,7 +32,7 @@ class RTSDFSettings(bpy.types.PropertyGroup):
                     "cone estimate everywhere, as in the paper (no noise while playing, less accurate)")
     shadow_map_size: IntProperty(
         name="Shadow Map Size", default=1024, min=64, max=4096,
-        description="CSM + EVSM: texels per side of each cascade (sun), spot light view or cube face")
+        description="Shadow-map methods: texels per side of each cascade (sun), spot light view or cube face")
     coarse_resolution: IntProperty(
         name="Coarse", default=64, min=8, max=512,
         description="Voxels on the longest axis of the coarse (jump-flooded) SDF: of each mesh's own field (RTSDF), "

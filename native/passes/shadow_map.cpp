@@ -7,7 +7,6 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "error.h"
-#include "spirv/spirv_evsm_blur_comp.h"
 #include "spirv/spirv_shadow_map_frag.h"
 #include "spirv/spirv_shadow_map_vert.h"
 #include "vk/context.h"
@@ -18,7 +17,6 @@ namespace {
 
 constexpr VkFormat kMoments = VK_FORMAT_R32G32B32A32_SFLOAT;
 constexpr VkFormat kDepth = VK_FORMAT_D32_SFLOAT;
-constexpr VkDescriptorType kImage = VK_DESCRIPTOR_TYPE_STORAGE_IMAGE;
 constexpr VkDescriptorType kBuffer = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
 
 std::array<glm::vec3, 8> corners(const Bounds& b) {
@@ -55,24 +53,24 @@ struct Fit {
   Bounds everything;        // bounds of all geometry (the receivers too)
   float reference_distance; // typical occluder-to-receiver distance: half the casters' diagonal
   int size;                 // texels per tile side
+  float filter_radius;      // texels: the lookup's fixed filter (0: penumbra-wide)
 };
 
-struct View {
-  gpu::ShadowTile tile{};
-  float blur = 0.0f;  // texels
-};
-
-// Texels of blur and of border margin for a penumbra of `blur_world` where a texel is `texel_world`.
-void set_blur(View& view, float blur_world, float texel_world) {
-  view.blur = std::min(blur_world / texel_world, ShadowMapPass::kMaxBlurRadius);
-  view.tile.atlas.z = int(std::ceil(view.blur)) + 1;
+// The texels a tile keeps clear of its border when a lookup picks it: the
+// filter's reach, a fixed one's or that of a penumbra of `penumbra_world`
+// (the light's penumbra at the reference distance, twice over for the
+// farther receivers) where a texel is `texel_world`; up to kMaxFilterRadius and an eighth of the tile.
+void set_reach(gpu::ShadowTile& tile, const Fit& fit, float penumbra_world, float texel_world) {
+  const float wanted = fit.filter_radius > 0.0f ? fit.filter_radius : 2.0f * penumbra_world / texel_world;
+  const float reach = std::min({wanted, ShadowMapPass::kMaxFilterRadius, fit.size / 8.0f});
+  tile.atlas.z = int(std::ceil(reach)) + 1;
 }
 
-// A perspective view from `position` along `forward`, its square frustum
-// `tan_half` wide (at unit depth) before the blur's margin is added; `tan_light`
-// is the light's angular radius as seen from the casters.
-View perspective_view(const Fit& fit, glm::vec3 position, glm::vec3 forward, float tan_half, float tan_light) {
-  View view;
+// A perspective view from a local light's position along `forward`, its
+// square frustum `tan_half` wide (at unit depth) before the filter's margin is added.
+gpu::ShadowTile perspective_view(const Fit& fit, const Light& light, glm::vec3 forward, float tan_half) {
+  gpu::ShadowTile tile{};
+  const glm::vec3 position = light.position;
   float far = 0.0f;
   for (const glm::vec3& c : corners(fit.everything)) far = std::max(far, glm::dot(forward, c - position));
   far *= 1.01f;
@@ -80,16 +78,18 @@ View perspective_view(const Fit& fit, glm::vec3 position, glm::vec3 forward, flo
   if (!(far > near)) far = near * 2.0f;
   const float occluder = std::max(glm::length(0.5f * (fit.casters.lo + fit.casters.hi) - position), 1e-4f);
   const float receiver_depth = occluder + fit.reference_distance;
-  set_blur(view, fit.reference_distance * tan_light, 2.0f * tan_half * receiver_depth / float(fit.size));
-  // Widen the frustum so the margin the blur needs lies outside the cone.
-  const float tan_wide = tan_half * float(fit.size) / float(std::max(fit.size - 2 * view.tile.atlas.z, 1));
+  set_reach(tile, fit, light.radius * fit.reference_distance / occluder,
+            2.0f * tan_half * receiver_depth / float(fit.size));
+  // Widen the frustum so the margin the filter needs lies outside the cone.
+  const float tan_wide = tan_half * float(fit.size) / float(std::max(fit.size - 2 * tile.atlas.z, 1));
   glm::vec3 right, up;
   basis(forward, right, up);
   const glm::mat4 world_to_view = glm::lookAtRH(position, position + forward, up);
-  view.tile.world_to_clip = glm::perspectiveRH_ZO(2.0f * std::atan(tan_wide), 1.0f, near, far) * world_to_view;
-  view.tile.depth_axis = glm::vec4(forward, -glm::dot(forward, position));
-  view.tile.depth_range = glm::vec4(near, 1.0f / (far - near), 0.0f, 2.0f * tan_wide / float(fit.size));
-  return view;
+  tile.world_to_clip = glm::perspectiveRH_ZO(2.0f * std::atan(tan_wide), 1.0f, near, far) * world_to_view;
+  tile.depth_axis = glm::vec4(forward, -glm::dot(forward, position));
+  tile.depth_range = glm::vec4(near, 1.0f / (far - near), 0.0f, 2.0f * tan_wide / float(fit.size));
+  tile.light = glm::vec4(light.radius, 1.0f, 0.0f, 0.0f);
+  return tile;
 }
 
 // The camera's depth range [near, far] (distances along the view axis) from
@@ -100,8 +100,8 @@ glm::vec2 camera_depth_range(const glm::mat4& p) {
 }
 
 // A sun's cascades over the camera's depth range, clipped to the scene's.
-std::vector<View> sun_views(const Fit& fit, const Light& light, const glm::mat4& world_to_view,
-                            const glm::mat4& projection, std::vector<float>& splits) {
+std::vector<gpu::ShadowTile> sun_views(const Fit& fit, const Light& light, const glm::mat4& world_to_view,
+                                       const glm::mat4& projection) {
   const glm::vec3 forward = glm::normalize(light.direction);
   glm::vec3 right, up;
   basis(forward, right, up);
@@ -123,7 +123,6 @@ std::vector<View> sun_views(const Fit& fit, const Light& light, const glm::mat4&
     split[i] = i == 0 ? near : i == ShadowMapPass::kCascades ? far
              : lambda * near * std::pow(far / near, s) + (1.0f - lambda) * (near + (far - near) * s);
   }
-  splits.insert(splits.end(), split.begin(), split.end());
 
   const glm::mat4 clip_to_world = glm::inverse(projection * world_to_view);
   auto ndc_z = [&](float d) {
@@ -131,9 +130,9 @@ std::vector<View> sun_views(const Fit& fit, const Light& light, const glm::mat4&
     return clip.z / clip.w;
   };
   const float tan_light = std::tan(0.5f * std::min(light.sun_angle, 0.99f * float(M_PI)));
-  const float blur_world = fit.reference_distance * tan_light;
+  const float penumbra_world = fit.reference_distance * tan_light;
   const glm::vec2 caster_range = extent_along(fit.casters, forward), scene_range = extent_along(fit.everything, forward);
-  std::vector<View> views;
+  std::vector<gpu::ShadowTile> views;
   for (int i = 0; i < ShadowMapPass::kCascades; ++i) {
     std::array<glm::vec3, 8> slice;
     for (int k = 0; k < 8; ++k) {
@@ -149,11 +148,11 @@ std::vector<View> sun_views(const Fit& fit, const Light& light, const glm::mat4&
     // (to 1/64 of its power of two) it keeps it as the camera moves slightly too.
     const float quantum = std::exp2(std::floor(std::log2(std::max(radius, 1e-6f)))) / 64.0f;
     radius = std::ceil(radius / quantum) * quantum;
-    // Room for the blur's margin (and two texels) around the slice.
-    const float half = radius + blur_world + 4.0f * radius / float(fit.size);
+    // Room for the filter's margin (and two texels) around the slice.
+    const float half = radius + 2.0f * penumbra_world + 4.0f * radius / float(fit.size);
     const float texel = 2.0f * half / float(fit.size);
-    View view;
-    set_blur(view, blur_world, texel);
+    gpu::ShadowTile tile{};
+    set_reach(tile, fit, penumbra_world, texel);
     // Whole-texel steps of the tile's centre: a moving camera does not shift the texel grid.
     const float cx = std::floor(glm::dot(right, center) / texel) * texel;
     const float cy = std::floor(glm::dot(up, center) / texel) * texel;
@@ -163,11 +162,12 @@ std::vector<View> sun_views(const Fit& fit, const Light& light, const glm::mat4&
     z_near -= pad;
     z_far = std::max(z_far + pad, z_near + 2.0f * pad);
     const float inv_range = 1.0f / (z_far - z_near);
-    view.tile.world_to_clip = from_rows(glm::vec4(right / half, -cx / half), glm::vec4(up / half, -cy / half),
-                                        glm::vec4(forward * inv_range, -z_near * inv_range), glm::vec4(0, 0, 0, 1));
-    view.tile.depth_axis = glm::vec4(forward, 0.0f);
-    view.tile.depth_range = glm::vec4(z_near, inv_range, texel, 0.0f);
-    views.push_back(view);
+    tile.world_to_clip = from_rows(glm::vec4(right / half, -cx / half), glm::vec4(up / half, -cy / half),
+                                   glm::vec4(forward * inv_range, -z_near * inv_range), glm::vec4(0, 0, 0, 1));
+    tile.depth_axis = glm::vec4(forward, 0.0f);
+    tile.depth_range = glm::vec4(z_near, inv_range, texel, 0.0f);
+    tile.light = glm::vec4(tan_light, 0.0f, 0.0f, 0.0f);
+    views.push_back(tile);
   }
   return views;
 }
@@ -179,20 +179,18 @@ bool one_view(const Light& light) { return light.type == LightType::Spot && ligh
 // Tiles a light gets at most.
 long tile_count(const Light& light) { return light.type == LightType::Sun ? ShadowMapPass::kCascades : one_view(light) ? 1 : 6; }
 
-std::vector<View> light_views(const Fit& fit, const Light& light, const glm::mat4& world_to_view,
-                              const glm::mat4& projection, std::vector<float>& splits) {
-  if (light.type == LightType::Sun) return sun_views(fit, light, world_to_view, projection, splits);
-  const glm::vec3 center = 0.5f * (fit.casters.lo + fit.casters.hi);
-  const float tan_light = light.radius / std::max(glm::length(center - light.position), 1e-4f);
+std::vector<gpu::ShadowTile> light_views(const Fit& fit, const Light& light, const glm::mat4& world_to_view,
+                                         const glm::mat4& projection) {
+  if (light.type == LightType::Sun) return sun_views(fit, light, world_to_view, projection);
   if (one_view(light)) {
     const glm::vec3 forward = glm::length(light.direction) > 0.0f ? glm::normalize(light.direction) : glm::vec3(0, 0, -1);
-    return {perspective_view(fit, light.position, forward, std::tan(0.5f * light.spot_size), tan_light)};
+    return {perspective_view(fit, light, forward, std::tan(0.5f * light.spot_size))};
   }
-  std::vector<View> faces;
+  std::vector<gpu::ShadowTile> faces;
   for (int axis = 0; axis < 6; ++axis) {
     glm::vec3 forward(0.0f);
     forward[axis / 2] = axis % 2 ? -1.0f : 1.0f;
-    faces.push_back(perspective_view(fit, light.position, forward, 1.0f, tan_light));
+    faces.push_back(perspective_view(fit, light, forward, 1.0f));
   }
   return faces;
 }
@@ -202,17 +200,14 @@ std::vector<View> light_views(const Fit& fit, const Light& light, const glm::mat
 ShadowMapPass::ShadowMapPass(const vk::Context& context)
     : context_(context),
       raster_(context, RTSDF_SPIRV(spirv_shadow_map_vert), RTSDF_SPIRV(spirv_shadow_map_frag),
-              {kBuffer, kBuffer, kBuffer}, sizeof(gpu::ShadowMapPush), vk::RenderTargets{{kMoments}, kDepth}),
-      blur_(context, RTSDF_SPIRV(spirv_evsm_blur_comp), {kImage, kImage}, sizeof(gpu::EvsmBlurPush)) {}
+              {kBuffer, kBuffer, kBuffer}, sizeof(gpu::ShadowMapPush), vk::RenderTargets{{kMoments}, kDepth}) {}
 
 void ShadowMapPass::setup(const GpuScene& scene, const std::vector<Light>& lights, const glm::mat4& world_to_view,
-                          const glm::mat4& projection, int size) {
+                          const glm::mat4& projection, int size, float filter_radius) {
   if (size < 16 || size > 8192) throw Error("shadow_map_size must be 16 to 8192");
   tile_data_.clear();
-  blur_radii_.clear();
-  splits_.clear();
   std::vector<gpu::ShadowLightTiles> ranges(std::max<size_t>(lights.size(), 1), gpu::ShadowLightTiles{});
-  std::vector<std::vector<View>> views(lights.size());
+  std::vector<std::vector<gpu::ShadowTile>> views(lights.size());
   if (!scene.shadow_casters().empty()) {
     // More tiles than the atlas (or the device's largest image) holds at
     // `size`: smaller tiles.
@@ -222,12 +217,13 @@ void ShadowMapPass::setup(const GpuScene& scene, const std::vector<Light>& light
     const long largest = std::min(context_.limits().maxImageDimension2D,
                                   std::min(context_.limits().maxFramebufferWidth, context_.limits().maxFramebufferHeight));
     while (size > 16 && (tiles * size * size > kMaxAtlasTexels || side * size > largest)) size /= 2;
-    Fit fit{scene.bounds(), scene.scene().world_bounds(), 0.5f * glm::length(scene.bounds().extent()), size};
-    for (size_t l = 0; l < lights.size(); ++l) views[l] = light_views(fit, lights[l], world_to_view, projection, splits_);
+    const Fit fit{scene.bounds(), scene.scene().world_bounds(), 0.5f * glm::length(scene.bounds().extent()), size,
+                  filter_radius};
+    for (size_t l = 0; l < lights.size(); ++l) views[l] = light_views(fit, lights[l], world_to_view, projection);
   }
   for (size_t l = 0; l < lights.size(); ++l) {
     ranges[l] = {uint32_t(tile_data_.size()), uint32_t(views[l].size()), 0u, 0u};
-    for (const View& view : views[l]) tile_data_.push_back(view.tile), blur_radii_.push_back(view.blur);
+    tile_data_.insert(tile_data_.end(), views[l].begin(), views[l].end());
   }
 
   // Tiles in a near-square grid in one atlas.
@@ -241,12 +237,11 @@ void ShadowMapPass::setup(const GpuScene& scene, const std::vector<Light>& light
     moments_ = vk::Image::plane(context_, texels.x, texels.y, kMoments,
                                 VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_STORAGE_BIT);
     depth_ = vk::Image::plane(context_, texels.x, texels.y, kDepth, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT);
-    blur_scratch_ = vk::Image::plane(context_, size, size, kMoments, VK_IMAGE_USAGE_STORAGE_BIT);
     framebuffer_ = std::make_unique<vk::Framebuffer>(context_, raster_.render_pass(), uint32_t(texels.x),
                                                      uint32_t(texels.y),
                                                      std::vector<VkImageView>{moments_.view(), depth_.view()});
     // GENERAL from the start: shading may read the atlas before anything is rendered into it.
-    vk::make_general(context_, {&moments_, &blur_scratch_});
+    vk::make_general(context_, {&moments_});
     tile_size_ = size;
     atlas_tiles_ = grid;
   }
@@ -300,29 +295,6 @@ void ShadowMapPass::record(VkCommandBuffer cmd, const GpuScene& scene) const {
     }
   }
   vkCmdEndRenderPass(cmd);
-
-  // Separable blur, tile by tile: x into the scratch tile, y back into the atlas.
-  const VkAccessFlags read_write = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT;
-  blur_.bind(cmd);
-  for (size_t t = 0; t < tile_data_.size(); ++t) {
-    if (blur_radii_[t] <= 0.0f) continue;
-    gpu::EvsmBlurPush push{};
-    push.source = glm::ivec4(tile_data_[t].atlas.x, tile_data_[t].atlas.y, tile_size_, 0);
-    push.target = glm::ivec4(0);
-    push.radius = glm::vec4(blur_radii_[t], 0.0f, 0.0f, 0.0f);
-    blur_.push_descriptors(cmd, {vk::Resource::storage_image(moments_), vk::Resource::storage_image(blur_scratch_)});
-    blur_.push_constants(cmd, push);
-    vkCmdDispatch(cmd, vk::group_count(tile_size_, 8), vk::group_count(tile_size_, 8), 1);
-    vk::memory_barrier(cmd, VK_ACCESS_SHADER_WRITE_BIT, read_write, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
-                       VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT);
-    push.source = glm::ivec4(0, 0, tile_size_, 1);
-    push.target = glm::ivec4(tile_data_[t].atlas.x, tile_data_[t].atlas.y, 0, 0);
-    blur_.push_descriptors(cmd, {vk::Resource::storage_image(blur_scratch_), vk::Resource::storage_image(moments_)});
-    blur_.push_constants(cmd, push);
-    vkCmdDispatch(cmd, vk::group_count(tile_size_, 8), vk::group_count(tile_size_, 8), 1);
-    vk::memory_barrier(cmd, VK_ACCESS_SHADER_WRITE_BIT, read_write, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
-                       VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT);
-  }
 }
 
 }  // namespace rtsdf

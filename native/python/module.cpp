@@ -160,7 +160,7 @@ rtsdf::Camera camera_of(const py::dict& camera_desc) {
 
 rtsdf::RenderSettings settings_of(const py::dict& settings_desc) {
   rtsdf::RenderSettings settings;
-  // "rtsdf", "rtsdf_world", "rt_only", "jfa_only", "csm_evsm" or "raytraced"; anything else is an rtsdf.Error.
+  // "rtsdf", "rtsdf_world", "rt_only", "jfa_only", "csm_evsm", "csm_jitter" or "raytraced"; anything else is an rtsdf.Error.
   settings.shadow_method = rtsdf::parse_shadow_method(
       get<std::string>(settings_desc, "shadow_method", rtsdf::shadow_method_name(settings.shadow_method)));
   settings.shadow_map_size = get<int>(settings_desc, "shadow_map_size", settings.shadow_map_size);
@@ -492,7 +492,7 @@ PYBIND11_MODULE(rtsdf_native, m) {
            "[{mesh, matrix 4x4 row-major, color, casts_shadow}], lights [{type SUN|POINT|SPOT|AREA, position, direction, color, "
            "energy, angle, radius, spot_size, spot_blend}], camera {world_to_view, projection (OpenGL), "
            "orthographic}, width, height, ambient. settings: the RenderSettings fields by name, among them "
-           "shadow_method ('rtsdf', 'rtsdf_world', 'rt_only', 'jfa_only', 'csm_evsm' or 'raytraced') and shadow_map_size (csm_evsm). "
+           "shadow_method ('rtsdf', 'rtsdf_world', 'rt_only', 'jfa_only', 'csm_evsm', 'csm_jitter' or 'raytraced') and shadow_map_size (the csm methods). "
            "Returns combined (H,W,4), depth, shadow (rows top to bottom) "
            "and ms. progress(done, total) is called after each accumulation frame; returning False stops. "
            "persistent=True keeps the scene on the device and the fine SDF between renders when only transforms "

@@ -62,10 +62,11 @@ class QuickRun(unittest.TestCase):
                 self.assertEqual(reader.fieldnames, ["scene", "method", "setting", "ms_per_frame", "shadow_rmse",
                                                      "ssim", "flicker", "ghost_frames", "leak", "field_mb",
                                                      "dense_mb", "playback_rmse", "playback_ratio",
-                                                     "playback_flicker", "playback_rmse_no_reuse"])
+                                                     "playback_flicker", "playback_rmse_no_reuse", "device"])
                 rows = list(reader)
             methods = {row["method"] for row in rows}
-            self.assertEqual(methods, {"cycles", "rtsdf", "rtsdf_world", "rt_only", "jfa_only", "csm_evsm", "raytraced", "eevee"})
+            self.assertEqual(methods, {"cycles", "rtsdf", "rtsdf_world", "rt_only", "jfa_only", "csm_evsm", "csm_jitter",
+                                       "raytraced", "eevee"})
             for row in rows:
                 self.assertGreater(float(row["ms_per_frame"]), 0.0)
                 if row["method"] != "cycles":
@@ -86,6 +87,16 @@ class QuickRun(unittest.TestCase):
             self.assertGreater(os.path.getsize(os.path.join(out, "speed_accuracy.png")), 10000)
             with open(os.path.join(out, "summary.md")) as f:
                 self.assertIn("| sphere_plane |", f.read())
+            # The shadow-map baselines at their best: csm_jitter (EEVEE's own soft shadows) within 1.5x of EEVEE.
+            best = {m: min(float(r["shadow_rmse"]) for r in rows if r["method"] == m) for m in ("csm_jitter", "eevee")}
+            self.assertLess(best["csm_jitter"], 1.5 * best["eevee"], best)
+            # evaluation.md: the commit, the device, the command, and every method's image beside Cycles'.
+            with open(os.path.join(out, "evaluation.md")) as f:
+                evaluation = f.read()
+            for needle in ("from commit", "--scenes sphere_plane", first["device"], "images/sphere_plane.jpg",
+                           "frame cost"):
+                self.assertIn(needle, evaluation)
+            self.assertGreater(os.path.getsize(os.path.join(out, "images", "sphere_plane.jpg")), 20000)
 
 
 if __name__ == "__main__":

@@ -49,7 +49,7 @@ RenderSettings small_settings(ShadowMethod method) {
   settings.shadow_method = method;
   settings.coarse_resolution = 32;
   settings.fine_resolution = 64;
-  settings.samples = 3;
+  settings.samples = method == ShadowMethod::CsmJitter ? 16 : 3;  // (its penumbra is the frames' mean)
   settings.shadow_map_size = 512;
   return settings;
 }
@@ -85,6 +85,7 @@ double method_unit(ShadowMethod method, const GpuScene& scene, const RenderSetti
     case ShadowMethod::RayTraced:
       return 4.0 / kSize;  // (exact up to its noise: a pixel)
     case ShadowMethod::CsmEvsm:
+    case ShadowMethod::CsmJitter:
       break;
   }
   double texel = 0.0;
@@ -140,9 +141,9 @@ TEST_P(ShadowMethodsTest, SphereShadowUnderSun) {
   // the thickness of the coarse field's shell.)
   EXPECT_GT(beside, 0.95) << "lit a unit to either side of the shadow";
   EXPECT_NEAR(r.x50, e.x50, 3.0 * unit + pixel) << "the shadow's edge (half the sun hidden) within 3 voxels or texels";
-  // jfa_only and csm_evsm trace no rays: no BVH is built for them.
+  // jfa_only and the shadow maps trace no rays: no BVH is built for them.
   // (raytraced and rtsdf_world are not listed: this file keeps to one per kind)
-  if (method == ShadowMethod::JfaOnly || method == ShadowMethod::CsmEvsm)
+  if (method == ShadowMethod::JfaOnly || method == ShadowMethod::CsmEvsm || method == ShadowMethod::CsmJitter)
     EXPECT_EQ(scene.bvh_build_ms(), 0.0) << "no BVH built";
 }
 
@@ -192,14 +193,14 @@ TEST_P(ShadowMethodsTest, MessyMeshesCastShadowsWithoutNaN) {
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(AllMethods, ShadowMethodsTest, ::testing::Values("rtsdf", "rt_only", "jfa_only", "csm_evsm", "raytraced"),
+INSTANTIATE_TEST_SUITE_P(AllMethods, ShadowMethodsTest, ::testing::Values("rtsdf", "rt_only", "jfa_only", "csm_evsm", "csm_jitter", "raytraced"),
                          [](const ::testing::TestParamInfo<const char*>& info) { return std::string(info.param); });
 
-// csm_evsm with a light of radius 0.15 up and to the -x side of the sphere:
-// along y = 0 the shadow's far edge (half the light hidden) is near x = 1.23.
-// A spot aimed past the sphere at the ground gets one perspective view, a
-// point light a cube of six.
-void check_local_light_shadow(LightType type, size_t tiles) {
+// A shadow-map method with a light of radius 0.15 up and to the -x side of
+// the sphere: along y = 0 the shadow's far edge (half the light hidden) is
+// near x = 1.23. A spot aimed past the sphere at the ground gets one
+// perspective view, a point light a cube of six.
+void check_local_light_shadow(ShadowMethod method, LightType type, size_t tiles) {
   GpuScene scene(testing::VulkanTest::context(), sphere_over_ground());
   Light light;
   light.type = type;
@@ -209,7 +210,7 @@ void check_local_light_shadow(LightType type, size_t tiles) {
   light.radius = 0.15f;
   light.spot_size = float(M_PI / 2);
   light.spot_blend = 0.1f;
-  const RenderSettings settings = small_settings(ShadowMethod::CsmEvsm);
+  const RenderSettings settings = small_settings(method);
   Renderer& renderer = shared_renderer();
   const RenderOutput out = renderer.render(scene, top_view(), {light}, glm::vec3(0.05f), kSize, kSize, settings);
   ASSERT_EQ(renderer.shadow_maps()->tile_data().size(), tiles);
@@ -223,9 +224,9 @@ void check_local_light_shadow(LightType type, size_t tiles) {
                              {0, 0, kHeight}, kRadius);
   };
   const Profile r = profile(rendered, 0.85, 4.0 / kSize), e = profile(exact, 0.85, 0.001);
-  const double unit = method_unit(ShadowMethod::CsmEvsm, scene, settings, renderer), pixel = 4.0 / kSize;
-  std::printf("csm_evsm, %zu tile(s): umbra %.3f, lit %.3f / %.3f; 50%% at %.3f vs %.3f (texel %.4f); "
-              "10-90%% %.3f vs %.3f\n", tiles, rendered(0.85), rendered.mean(-1.9, -1.2), rendered.mean(1.6, 1.9),
+  const double unit = method_unit(method, scene, settings, renderer), pixel = 4.0 / kSize;
+  std::printf("%s, %zu tile(s): umbra %.3f, lit %.3f / %.3f; 50%% at %.3f vs %.3f (texel %.4f); "
+              "10-90%% %.3f vs %.3f\n", shadow_method_name(method), tiles, rendered(0.85), rendered.mean(-1.9, -1.2), rendered.mean(1.6, 1.9),
               r.x50, e.x50, unit, r.width(), e.width());
   EXPECT_LT(rendered(0.85), 0.15) << "umbra";
   EXPECT_GT(rendered.mean(-1.9, -1.2), 0.95) << "lit between the light and the sphere";
@@ -233,8 +234,16 @@ void check_local_light_shadow(LightType type, size_t tiles) {
   EXPECT_NEAR(r.x50, e.x50, 3.0 * unit + pixel) << "the shadow's edge within 3 texels";
 }
 
-TEST_F(ShadowMapsTest, SphereShadowUnderSpot) { check_local_light_shadow(LightType::Spot, 1); }
-TEST_F(ShadowMapsTest, SphereShadowUnderPointLightCube) { check_local_light_shadow(LightType::Point, 6); }
+TEST_F(ShadowMapsTest, SphereShadowUnderSpot) { check_local_light_shadow(ShadowMethod::CsmEvsm, LightType::Spot, 1); }
+TEST_F(ShadowMapsTest, SphereShadowUnderPointLightCube) {
+  check_local_light_shadow(ShadowMethod::CsmEvsm, LightType::Point, 6);
+}
+TEST_F(ShadowMapsTest, JitteredSphereShadowUnderSpot) {
+  check_local_light_shadow(ShadowMethod::CsmJitter, LightType::Spot, 1);
+}
+TEST_F(ShadowMapsTest, JitteredSphereShadowUnderPointLightCube) {
+  check_local_light_shadow(ShadowMethod::CsmJitter, LightType::Point, 6);
+}
 
 // raytraced with 256 samples, and rtsdf with 4 exact rays a frame over 64
 // (where its field is not sure: the whole penumbra here): the sun's and a
@@ -284,6 +293,11 @@ void check_converges_to_analytic(ShadowMethod method, int samples, int exact_ray
 
 TEST_F(RayTracedTest, SoftShadowsConvergeToTheAnalyticOnes) { check_converges_to_analytic(ShadowMethod::RayTraced, 256, 0); }
 TEST_F(ExactRaysTest, SoftShadowsConvergeToTheAnalyticOnes) { check_converges_to_analytic(ShadowMethod::Rtsdf, 64, 4); }
+// csm_jitter's frames each see the light from one point of it: their mean is
+// the soft shadow, up to the map's texels (a fifth of a pixel here).
+TEST_F(ShadowMapsTest, JitteredMapsConvergeToTheAnalyticSoftShadows) {
+  check_converges_to_analytic(ShadowMethod::CsmJitter, 64, 0);
+}
 
 // Leaf cards: a tilted row of small open quads over the ground, lit by a
 // low sun. A card's field is a slab a voxel thick whichever way it is turned,
@@ -348,7 +362,7 @@ TEST_F(RtOnlyTest, TracesEveryTexelEveryFrame) {
 }
 
 TEST(ShadowMethodNames, ParseAndNameRoundTripAndUnknownNamesAreErrors) {
-  for (const char* name : {"rtsdf", "rtsdf_world", "rt_only", "jfa_only", "csm_evsm", "raytraced"})
+  for (const char* name : {"rtsdf", "rtsdf_world", "rt_only", "jfa_only", "csm_evsm", "csm_jitter", "raytraced"})
     EXPECT_STREQ(shadow_method_name(parse_shadow_method(name)), name);
   EXPECT_EQ(RenderSettings{}.shadow_method, ShadowMethod::Rtsdf);
   try {
