@@ -32,43 +32,53 @@ class RTSDFSettings(bpy.types.PropertyGroup):
                     "cone estimate everywhere, as in the paper (no noise while playing, less accurate)")
     shadow_map_size: IntProperty(
         name="Shadow Map Size", default=1024, min=64, max=4096,
-        description="Shadow-map methods: texels per side of each cascade (sun), spot light view or cube face")
+        description="Shadow-map methods: texels per side of each cascade (sun), spot light view or cube face. "
+                    "Larger: sharper, better placed shadows; each doubling costs 4x the map's memory and raster time")
     coarse_resolution: IntProperty(
         name="Coarse", default=64, min=8, max=512,
         description="Voxels on the longest axis of the coarse (jump-flooded) SDF: of each mesh's own field (RTSDF), "
-                    "or of the whole scene's")
+                    "or of the whole scene's. Higher: a tighter band to trace and longer safe steps; costs memory "
+                    "and jump-flood time (cubic)")
     fine_resolution: IntProperty(
         name="Fine", default=128, min=16, max=1024,
         description="Voxels on the longest axis of the fine (ray-traced) SDF, of each mesh's own field (RTSDF) or of "
-                    "the whole scene's; at least the coarse resolution")
+                    "the whole scene's; at least the coarse resolution. Higher: thin parts and contact shadows "
+                    "resolved; the field's build time and memory grow with its surface (square)")
     field_budget_mb: FloatProperty(
         name="Field Memory (MB)", default=1024.0, min=16.0, max=65536.0,
         description="RTSDF: device memory for all meshes' fields; when they need more, every mesh's resolution is "
                     "lowered alike (reported in the stats)")
     beta: FloatProperty(
         name="Beta", default=0.5, min=0.0, max=4.0,
-        description="Bias subtracted from the coarse distance, in coarse voxels: thickens surfaces")
+        description="In coarse voxels, subtracted from the coarse distance: thickens surfaces so the band to "
+                    "trace holds them. Larger: safer for thin parts, a wider band to trace")
     trace_band: FloatProperty(
         name="Band", default=2.0, min=0.5, max=16.0,
-        description="d: fine texels within this coarse distance (coarse voxels) are ray traced")
+        description="d, in coarse voxels: fine texels this close to a surface are ray traced. Wider: more of "
+                    "the field exact (soft penumbrae far from casters); more texels to trace")
     decay: FloatProperty(
         name="Decay", default=0.9, min=0.0, max=0.99,
-        description="Alpha: weight of the previous frame's fine SDF (higher converges further, forgets slower)")
+        description="Alpha: weight of the previous frame's fine SDF. Higher: converges further with less noise; "
+                    "a deforming mesh's field lags its shape longer")
     rays_per_texel: IntProperty(
         name="Rays", default=8, min=1, max=64,
-        description="Rays cast from each traced fine texel per frame")
+        description="Rays cast from each traced fine texel per frame. More: a field closer to exact in fewer "
+                    "frames; each frame costs that much more")
     shadow_epsilon: FloatProperty(
         name="Epsilon", default=1.0, min=0.25, max=4.0,
-        description="Surface thickness the shadow march treats as solid, in fine voxels")
+        description="In fine voxels: how close the shadow march must come to a surface to call it blocked. "
+                    "Larger: fewer leaks through thin parts, but shadows spread and contact gaps close")
     shadow_max_steps: IntProperty(
         name="Steps", default=96, min=8, max=1024,
-        description="Step limit of the shadow march")
+        description="Step limit of the shadow march. More: long rays past many objects reach the light instead of "
+                    "stopping short (an unfinished march counts as lit); each step costs shading time")
     max_step: FloatProperty(
         name="Max Step", default=4.0, min=0.5, max=32.0,
         description="Longest step of the shadow march, in fine voxels (shorter removes banding, costs more)")
     samples: IntProperty(
         name="Samples", default=16, min=1, max=1024,
-        description="Accumulation frames for a final render (sub-pixel and shadow jitter each)")
+        description="Accumulation frames for a final render, each with its own sub-pixel and shadow jitter. More: "
+                    "smoother penumbrae and edges; the render takes that many frames")
     animation_reuse: BoolProperty(
         name="Reuse Between Frames", default=False,
         description="Animation renders with Persistent Data (Performance panel): each frame renders Animation "
@@ -85,10 +95,12 @@ class RTSDFSettings(bpy.types.PropertyGroup):
 
     viewport_samples: IntProperty(
         name="Viewport Samples", default=16, min=1, max=1024,
-        description="Accumulation frames in the viewport; after these the viewport stops working until something changes")
+        description="Accumulation frames in the viewport; after these the viewport stops working until something "
+                    "changes. More: a cleaner still image; the CPU or GPU stays busy longer")
     viewport_scale: FloatProperty(
         name="Viewport Scale", default=0.5, min=0.1, max=1.0, subtype="FACTOR",
-        description="Viewport rendering resolution relative to the region (rendered smaller, then scaled up)")
+        description="Viewport rendering resolution relative to the region (rendered smaller, then scaled up). "
+                    "Lower: faster frames while playing; softer image")
     viewport_interleave: IntProperty(
         name="Viewport Interleave", default=4, min=1, max=16,
         description="Each fine-SDF texel is traced every K-th viewport frame: K times less work per frame, "

@@ -1,0 +1,50 @@
+"""Quality presets (Render Properties > Sampling, the preset menu in its
+header): Draft, Preview and Final, each a set of scene.rtsdf settings.
+bench/run renders each one as a row of its sweep (label "preset=NAME"), so
+its place on the speed-accuracy chart is measured; the tooltips below say
+what it measured. The add-on writes them as Blender preset files into the
+user's presets folder (presets/rtsdf/quality) when it is enabled."""
+
+import os
+
+SUBDIR = os.path.join("rtsdf", "quality")
+
+# What each preset sets (scene.rtsdf names, which are the native settings' names too).
+PRESETS = {
+    "Draft": {"coarse_resolution": 32, "fine_resolution": 64, "exact_rays": 0, "samples": 6, "viewport_samples": 6,
+              "viewport_interleave": 4},
+    "Preview": {"coarse_resolution": 64, "fine_resolution": 96, "exact_rays": 0, "samples": 6, "viewport_samples": 16,
+                "viewport_interleave": 4},
+    "Final": {"coarse_resolution": 64, "fine_resolution": 96, "exact_rays": 4, "samples": 16, "viewport_samples": 16,
+              "viewport_interleave": 4},
+}
+
+
+# What bench/run measured of each (the tooltips in the preset menu).
+NOTES = {
+    "Draft": "Coarse fields, no exact rays, 6 samples: the fastest frames, softest detail",
+    "Preview": "The default fields, no exact rays, 6 samples",
+    "Final": "The default fields with 4 exact rays where the field is unsure, 16 samples: the closest to Cycles",
+}
+
+
+def native_settings(name):
+    """A preset's render settings, as bench/run passes them to the native module (without the viewport's)."""
+    return {key: value for key, value in PRESETS[name].items() if not key.startswith("viewport_")}
+
+
+def preset_file_text(name):
+    lines = ["import bpy", "rtsdf = bpy.context.scene.rtsdf"]
+    lines += [f"rtsdf.{key} = {value!r}" for key, value in PRESETS[name].items()]
+    return "\n".join(lines) + "\n"
+
+
+def install(directory):
+    """Writes (or refreshes) the bundled presets as preset files in `directory`."""
+    os.makedirs(directory, exist_ok=True)
+    for name in PRESETS:
+        path = os.path.join(directory, name + ".py")
+        text = preset_file_text(name)
+        if not os.path.exists(path) or open(path).read() != text:
+            with open(path, "w") as f:
+                f.write(text)
