@@ -52,7 +52,7 @@ def cycles(shadows, lights=True):
     scene.cycles.use_denoising = False
     scene.cycles.max_bounces = 0  # direct light only, as RTSDF computes it
     for light in bpy.data.lights:
-        light.cycles.cast_shadow = shadows
+        sync.set_light_casts_shadow(light, shadows)
     hidden = [o for o in scene.objects if o.type == "LIGHT" and not o.hide_render]
     if not lights:
         for o in hidden:

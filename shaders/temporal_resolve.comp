@@ -17,6 +17,9 @@
 // - Moved shadows: a moving shadow is not a moving surface. Where the path
 //   to a light passes the box of the casters that moved, history stands for
 //   at most params.y samples, however still the receiver.
+// - Settled pixels: full history that stays where it was and passes the clamp
+//   keeps its converged value; the new sample is not blended in, so still
+//   parts of the image do not shimmer during playback.
 // The accumulation's running mean then goes on from history's samples
 // (accum_passes.z), up to image.w of them.
 #include "shared.h"
@@ -152,12 +155,20 @@ void main() {
   float shadow_history = mix(passes.y, history_shadow, kept);
 
   float samples = min(history_samples, float(pc.image.w));
+  bool shadow_moved = false;
   for (int l = 0; l < pc.image.z && !background; ++l)
-    if (light_path_crosses_change(position.xyz, l)) samples = min(samples, pc.params.y);
+    if (light_path_crosses_change(position.xyz, l)) shadow_moved = true, samples = min(samples, pc.params.y);
   float w = 1.0 / (samples + 1.0);  // this frame's sample's share
+  // Settled: a pixel whose full history stays on screen where it was, inside
+  // this frame's spread, out of any moved shadow, is the converged still
+  // image; a new jittered sample would only make it shimmer from frame to
+  // frame (what the still accumulation stops doing after its samples too).
+  bool settled = samples >= float(pc.image.w) && scale <= 1.0 && !shadow_moved &&
+                 all(lessThan(abs(at - vec2(pixel)), vec2(1e-3)));
+  if (settled) w = 0.0;
   imageStore(resolved_color, pixel, vec4(mix(clipped, current.rgb, w), current.a));
   // History's depths, moved as this surface point moved in depth since.
   float moved = background ? 0.0 : passes.x - motion.z;
   imageStore(resolved_passes, pixel, vec4(min(passes.x, history_nearest + moved), mix(shadow_history, passes.y, w),
-                                          samples + 1.0, max(passes.w, history_farthest + moved)));
+                                          settled ? samples : samples + 1.0, max(passes.w, history_farthest + moved)));
 }

@@ -19,7 +19,7 @@ IMAGE_NAME = "RTSDF vs Cycles"
 def render_cycles(scene, samples, full_light, shadows):
     """One Cycles render of the current frame, as linear RGB rows top to bottom, and its seconds."""
     saved = (scene.render.engine, scene.cycles.samples, scene.cycles.use_denoising, scene.cycles.max_bounces,
-             [(light, light.cycles.cast_shadow) for light in bpy.data.lights])
+             [(light, sync.light_casts_shadow(light)) for light in bpy.data.lights])
     try:
         scene.render.engine = "CYCLES"
         scene.cycles.samples = samples
@@ -27,7 +27,7 @@ def render_cycles(scene, samples, full_light, shadows):
         if not full_light:
             scene.cycles.max_bounces = 0  # direct light only, as RTSDF computes it
         for light in bpy.data.lights:
-            light.cycles.cast_shadow = shadows
+            sync.set_light_casts_shadow(light, shadows)
         start = time.perf_counter()
         bpy.ops.render.render()
         seconds = time.perf_counter() - start
@@ -47,7 +47,7 @@ def render_cycles(scene, samples, full_light, shadows):
         scene.render.engine, scene.cycles.samples, scene.cycles.use_denoising = engine, samples_before, denoising
         scene.cycles.max_bounces = bounces
         for light, cast in casts:
-            light.cycles.cast_shadow = cast
+            sync.set_light_casts_shadow(light, cast)
 
 
 def show(rgb):

@@ -1,7 +1,7 @@
-"""Image figures for comparing RTSDF with a reference (Cycles): plain numpy
-and scikit-image, no bpy, so that the compare operator, scripts/compare_render.py
-and bench/run share them. Images are linear RGB float arrays (H, W, 3), rows
-top to bottom."""
+"""Image figures for comparing RTSDF with a reference (Cycles): numpy only
+(Blender bundles no scikit-image or matplotlib), no bpy, so that the compare
+operator, scripts/compare_render.py and bench/run share them. Images are
+linear RGB float arrays (H, W, 3), rows top to bottom."""
 
 import numpy as np
 
@@ -31,9 +31,29 @@ def rmse(a, b, mask=None):
     return float(np.sqrt(np.mean((a - b) ** 2)))
 
 
+def box_mean(image, size):
+    """Mean over every size x size window that fits in the image (the valid part of a box filter)."""
+    summed = np.pad(np.cumsum(np.cumsum(image, axis=0), axis=1), ((1, 0), (1, 0)))
+    total = summed[size:, size:] - summed[:-size, size:] - summed[size:, :-size] + summed[:-size, :-size]
+    return total / (size * size)
+
+
+def structural_similarity(x, y, window=7, data_range=1.0):
+    """Mean SSIM (Wang et al. 2004) of two grey images, as scikit-image computes it by default: a
+    7x7 uniform window, sample covariances, K1 = 0.01, K2 = 0.03, over the windows that fit."""
+    x, y = x.astype(np.float64), y.astype(np.float64)
+    mx, my = box_mean(x, window), box_mean(y, window)
+    unbias = window * window / (window * window - 1.0)
+    vx = unbias * (box_mean(x * x, window) - mx * mx)
+    vy = unbias * (box_mean(y * y, window) - my * my)
+    vxy = unbias * (box_mean(x * y, window) - mx * my)
+    c1, c2 = (0.01 * data_range) ** 2, (0.03 * data_range) ** 2
+    s = (2 * mx * my + c1) * (2 * vxy + c2) / ((mx * mx + my * my + c1) * (vx + vy + c2))
+    return float(s.mean())
+
+
 def ssim(a, b):
-    from skimage.metrics import structural_similarity
-    return float(structural_similarity(to_display(a).mean(axis=-1), to_display(b).mean(axis=-1), data_range=1.0))
+    return structural_similarity(to_display(a).mean(axis=-1), to_display(b).mean(axis=-1), data_range=1.0)
 
 
 def leak(image, reference, unshadowed, world, least_pixels=20):
@@ -67,9 +87,19 @@ def compare(image, reference, reference_unshadowed):
             "shadow_rmse": rmse(image, reference, shadowed), "shadow_pixels": int(shadowed.sum())}
 
 
+# Matplotlib's "inferno" at nine even stops, for the difference heat map.
+INFERNO = np.array([[0.001, 0.000, 0.014], [0.129, 0.047, 0.291], [0.342, 0.062, 0.429], [0.541, 0.135, 0.415],
+                    [0.736, 0.216, 0.330], [0.894, 0.353, 0.194], [0.978, 0.558, 0.035], [0.975, 0.798, 0.206],
+                    [0.988, 0.998, 0.645]])
+
+
+def heat(values):
+    """values in [0, 1] -> RGB on the inferno ramp."""
+    position = np.clip(values, 0.0, 1.0) * (len(INFERNO) - 1)
+    return np.stack([np.interp(position, np.arange(len(INFERNO)), INFERNO[:, c]) for c in range(3)], axis=-1)
+
+
 def side_by_side(image, reference, vmax=0.25):
     """image | reference | heat map of |image - reference| as one display-ready RGB array."""
-    from matplotlib import colormaps
     difference = np.abs(image - reference).mean(axis=-1) / vmax
-    heat = colormaps["inferno"](np.clip(difference, 0.0, 1.0))[..., :3]
-    return np.concatenate([to_display(image), to_display(reference), heat], axis=1).astype(np.float32)
+    return np.concatenate([to_display(image), to_display(reference), heat(difference)], axis=1).astype(np.float32)

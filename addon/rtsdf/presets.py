@@ -45,6 +45,9 @@ def install(directory):
     for name in PRESETS:
         path = os.path.join(directory, name + ".py")
         text = preset_file_text(name)
-        if not os.path.exists(path) or open(path).read() != text:
-            with open(path, "w") as f:
-                f.write(text)
+        if os.path.exists(path):
+            with open(path) as f:
+                if f.read() == text:
+                    continue
+        with open(path, "w") as f:
+            f.write(text)

@@ -59,13 +59,24 @@ def base_color(obj):
     return tuple(material.diffuse_color[:3])
 
 
-def light_casts_shadow(light):
-    """The light's shadow toggle as Cycles reads it: Cast Shadow in Blender
-    3.x's Cycles settings, `use_shadow` since 4.0 (3.x's use_shadow is EEVEE's)."""
+def shadow_toggle(light):
+    """(owner, name) of the light's shadow toggle as Cycles reads it: Cast
+    Shadow in Blender 3.x's Cycles settings, `use_shadow` since 4.0 (3.x's
+    use_shadow is EEVEE's)."""
     cycles = getattr(light, "cycles", None)
     if cycles is not None and hasattr(cycles, "cast_shadow"):
-        return bool(cycles.cast_shadow)
-    return bool(getattr(light, "use_shadow", True))
+        return cycles, "cast_shadow"
+    return light, "use_shadow"
+
+
+def light_casts_shadow(light):
+    owner, name = shadow_toggle(light)
+    return bool(getattr(owner, name, True))
+
+
+def set_light_casts_shadow(light, casts):
+    owner, name = shadow_toggle(light)
+    setattr(owner, name, casts)
 
 
 def light_data(light, matrix):

@@ -18,6 +18,9 @@ ENGINE = "RTSDF"
 EXTRA_PANELS = {"DATA_PT_EEVEE_light", "DATA_PT_EEVEE_light_distance", "DATA_PT_spot", "DATA_PT_light",
                 "DATA_PT_area", "DATA_PT_context_light", "WORLD_PT_context_world", "EEVEE_WORLD_PT_surface",
                 "EEVEE_MATERIAL_PT_context_material", "EEVEE_MATERIAL_PT_surface"}
+# The basic renderer's panels that RTSDF does not read or that repeat EEVEE's
+# (its own Light panel beside EEVEE's made two), and light probes (none here).
+EXCLUDED_PANELS = {"DATA_PT_light", "NODE_DATA_PT_light", "DATA_PT_falloff_curve"}
 SDF_METHODS = {"rtsdf", "rtsdf_world", "rt_only"}
 SHADOW_MAP_METHODS = {"csm_evsm", "csm_jitter"}
 
@@ -190,7 +193,10 @@ classes = (RTSDF_OT_quality_preset, RTSDF_PT_quality_presets, RTSDF_OT_quality_p
 def compatible_panels():
     for panel in bpy.types.Panel.__subclasses__():
         engines = getattr(panel, "COMPAT_ENGINES", None)
-        if engines is not None and ("BLENDER_RENDER" in engines or panel.__name__ in EXTRA_PANELS):
+        name = panel.__name__
+        if name in EXCLUDED_PANELS or name.startswith("DATA_PT_lightprobe"):
+            continue
+        if engines is not None and ("BLENDER_RENDER" in engines or name in EXTRA_PANELS):
             yield panel
 
 

@@ -43,6 +43,20 @@ class Figures(unittest.TestCase):
         # Where the world's light dominates, there is no umbra to judge.
         self.assertIsNone(bench.metrics.leak(image, reference, world * 10 + 0.001, world * 10))
 
+    def test_ssim_is_scikit_images_without_it(self):
+        # (Blender bundles no scikit-image: metrics computes SSIM with numpy, as scikit-image does by default.)
+        rng = np.random.default_rng(7)
+        a = rng.random((40, 60))
+        b = np.clip(a + rng.normal(0.0, 0.1, a.shape), 0.0, 1.0)
+        self.assertAlmostEqual(bench.metrics.structural_similarity(a, a), 1.0)
+        self.assertLess(bench.metrics.structural_similarity(a, b), 0.99)
+        try:
+            from skimage.metrics import structural_similarity
+        except ImportError:
+            self.skipTest("no scikit-image to compare with")
+        self.assertAlmostEqual(bench.metrics.structural_similarity(a, b), structural_similarity(a, b, data_range=1.0),
+                               places=9)
+
     def test_pareto_front(self):
         points = [(10.0, 0.5), (20.0, 0.2), (15.0, 0.6), (30.0, 0.1), (30.0, 0.3)]
         self.assertEqual(bench.pareto(points), [0, 1, 3])

@@ -29,6 +29,16 @@ class AddonInBlender(unittest.TestCase):
         self.assertIsNone(error)
         self.assertTrue(device["name"])
 
+    def test_one_light_panel(self):
+        addon_utils.enable("rtsdf", default_set=True, handle_error=None)
+        light_panels = [panel.__name__ for panel in bpy.types.Panel.__subclasses__()
+                        if "RTSDF" in getattr(panel, "COMPAT_ENGINES", ()) and getattr(panel, "bl_context", "") == "data"
+                        and getattr(panel, "bl_label", "") == "Light" and panel.bl_space_type == "PROPERTIES"]
+        self.assertEqual(light_panels, ["DATA_PT_EEVEE_light"])
+        addon_utils.disable("rtsdf", default_set=True, handle_error=None)
+        self.assertFalse(any("RTSDF" in getattr(panel, "COMPAT_ENGINES", ()) for panel in bpy.types.Panel.__subclasses__()
+                             if panel.__name__ == "DATA_PT_EEVEE_light"))
+
 
 result = unittest.main(argv=["blender"], exit=False, verbosity=2).result
 sys.exit(0 if result.wasSuccessful() else 1)
