@@ -6,7 +6,8 @@
   eevee:   EEVEE renders (run under Xvfb) over a sweep of its shadow settings,
            and the frames its viewport shows while the mover plays prepare's move.
 
-blender -b SCENE.blend --addons rtsdf --python bench/blender_side.py -- MODE OUT_DIR PERCENT CYCLES_SAMPLES [QUICK]
+blender -b SCENE.blend --addons rtsdf --python bench/blender_side.py -- MODE OUT_DIR PERCENT CYCLES_SAMPLES STEPS [quick]
+(STEPS: the playback's steps, bench/run's ANIMATION_STEPS)
 Writes pickles of plain data and numpy arrays (linear RGB, rows top to bottom) into OUT_DIR.
 """
 import json
@@ -22,10 +23,9 @@ from mathutils import Vector
 
 from rtsdf import sync
 
-MODE, OUT, PERCENT, CYCLES_SAMPLES = sys.argv[sys.argv.index("--") + 1:][:4]
+MODE, OUT, PERCENT, CYCLES_SAMPLES, PLAYBACK_STEPS = sys.argv[sys.argv.index("--") + 1:][:5]
 QUICK = sys.argv[-1] == "quick"
-PLAYBACK_STEPS = 8  # (bench/run's ANIMATION_STEPS)
-PERCENT, CYCLES_SAMPLES = int(PERCENT), int(CYCLES_SAMPLES)
+PERCENT, CYCLES_SAMPLES, PLAYBACK_STEPS = int(PERCENT), int(CYCLES_SAMPLES), int(PLAYBACK_STEPS)
 os.makedirs(OUT, exist_ok=True)
 
 

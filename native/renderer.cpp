@@ -295,6 +295,7 @@ void Renderer::begin(GpuScene& scene, const Camera& camera, const std::vector<Li
   const std::vector<uint32_t> casters_before = scene.shadow_casters();
   const bool same_lights = gpu_lights.size() == lights_.size() &&
                            std::memcmp(gpu_lights.data(), lights_.data(), gpu_lights.size() * sizeof(gpu::GpuLight)) == 0;
+  same_lighting_ = same_lights && ambient == glm::vec3(frame_data_.ambient);
   if (scene_changed || scene_ != &scene || !same_lights) {
     scene.set_shadow_casters(find_shadow_casters(scene.scene(), scene.mesh_extents(), lights));
     sky_blockers_ = sky_blockers(scene.scene(), scene.mesh_extents(), scene.shadow_casters(), gpu::kMaxSkyBlockers);
@@ -490,6 +491,7 @@ void Renderer::add_frame() {
       // (the pixel filter's jitter reaches filter_width pixels either way)
       temporal.params = glm::vec4(kTemporalClip, kMovedShadowSamples, kReprojectedDepthTolerance,
                                   std::ceil(std::max(settings_.filter_width, 0.5f)));
+      temporal.settle = glm::uvec4(same_lighting_ ? 1u : 0u, 0u, 0u, 0u);
       temporal_.record(cmd, gbuffer_, accum_color_, accum_passes_, history_color_, history_passes_, frame_buffer_,
                        light_buffer_, resolved_color_, resolved_passes_, temporal);
     }

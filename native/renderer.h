@@ -271,6 +271,7 @@ class Renderer {
   // after a change is resolved into resolved_*, which then becomes accum_*.
   vk::Image history_color_, history_passes_, resolved_color_, resolved_passes_;
   bool has_history_ = false;      // this accumulation's first frame reprojects history
+  bool same_lighting_ = false;    // the lights and the world are as history saw them (settled pixels may stay)
   uint64_t drawn_scene_id_ = 0;   // the scene, transforms and camera the last accumulation drew
   std::vector<glm::mat4> drawn_transforms_;
   gpu::FrameData drawn_frame_{};

@@ -22,6 +22,8 @@ struct Instance {
   glm::mat4 object_to_world{1.0f};
   glm::vec3 base_color{0.8f};  // linear RGB of the instance's material
   bool casts_shadow = true;    // off: seen and lit, but left out of the SDFs
+  bool visible_to_camera = true;  // off: not seen, but still casts shadows (Blender's Ray Visibility > Camera)
+  bool holdout = false;           // seen as a hole: transparent black that hides what is behind (Holdout)
 };
 
 struct Bounds {

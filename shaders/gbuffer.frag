@@ -1,6 +1,7 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
-// G-buffer, fragment stage: world position (w = 1 where covered), shading
+// G-buffer, fragment stage: world position (w = kShadedSurface where covered,
+// kHoldoutSurface where a holdout is seen), shading
 // normal (interpolated for smooth meshes, else the triangle's plane, from the
 // screen derivatives of the position: shading turns it to face the camera),
 // base colour with a = the world voxel size of the field holding the surface
@@ -23,7 +24,7 @@ layout(location = 2) out vec4 out_albedo;
 layout(location = 3) out vec4 out_motion;
 
 void main() {
-  out_position = vec4(v_world, 1.0);
+  out_position = vec4(v_world, pc.base_color.w);
   float smooth_length = length(v_smooth_normal);
   vec3 face = cross(dFdx(v_world), dFdy(v_world));
   vec3 face_normal = dot(face, face) > 0.0 ? normalize(face) : vec3(0.0, 0.0, 1.0);

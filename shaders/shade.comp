@@ -70,7 +70,11 @@ void main() {
   vec4 position = imageLoad(g_position, pixel);
   vec3 color = frame.ambient.rgb;
   float depth = 1e10, shadow = 1.0;
-  if (position.w > 0.0) {
+  bool holdout = position.w > 0.5 * (kShadedSurface + kHoldoutSurface);
+  if (holdout) {
+    color = vec3(0.0);  // (and no coverage: the hole shows what is composited behind)
+    depth = dot(position.xyz - frame.camera_position.xyz, frame.camera_forward.xyz);
+  } else if (position.w > 0.0) {
     vec3 p = position.xyz;
     vec3 n = facing_normal(pixel, p);  // shade the side the camera sees
     vec4 albedo_voxel = imageLoad(g_albedo, pixel);
@@ -129,7 +133,7 @@ void main() {
   vec4 previous_color = pc.image.w == 0 ? vec4(0.0) : imageLoad(accum_color, pixel);
   vec4 previous_passes = pc.image.w == 0 ? vec4(0.0) : imageLoad(accum_passes, pixel);
   float samples = previous_passes.z, w = 1.0 / (samples + 1.0);
-  imageStore(accum_color, pixel, mix(previous_color, vec4(color, position.w > 0.0 ? 1.0 : 0.0), w));
+  imageStore(accum_color, pixel, mix(previous_color, vec4(color, position.w > 0.0 && !holdout ? 1.0 : 0.0), w));
   // The depths the pixel's samples saw, nearest to farthest: a pixel on a
   // silhouette holds both surfaces (the Depth pass is the nearest).
   float seen = position.w > 0.0 ? depth : kNothingHitDepth;

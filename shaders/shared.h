@@ -129,9 +129,13 @@ struct FrameData {
   vec4 changed_lo, changed_hi;
 };
 
+// What a G-buffer pixel holds (its position's w, and GBufferPush.base_color.w).
+const float kShadedSurface = 1.0;
+const float kHoldoutSurface = 2.0;  // a holdout: shaded transparent black (0 where nothing is seen)
+
 struct GBufferPush {
   mat4 object_to_world;
-  vec4 base_color;
+  vec4 base_color;    // w = kShadedSurface or kHoldoutSurface
   float field_voxel;  // world size of a voxel of the field holding this surface (0: only a receiver, in no field)
   uint instance;      // its index: previous_transforms[instance] placed it in the last frame
   uint pad1, pad2;
@@ -143,6 +147,7 @@ struct TemporalPush {
   vec4 params;    // x = variance clip width (standard deviations), y = the most history samples where a moved
                   // caster's shadow may have moved, z = relative depth a reprojected surface may differ by,
                   // w = the sub-pixel jitter's reach (whole pixels)
+  uvec4 settle;   // x = 1: the lights and the world are as history saw them, so settled pixels keep their history
 };
 // The most samples history stands for where it matched a pixel's depth only
 // within the jitter's reach (temporal_resolve.comp).
@@ -265,7 +270,7 @@ static_assert(sizeof(GpuLight) == 64, "GpuLight layout");
 static_assert(sizeof(FrameData) == 112 + 32 * kMaxSkyBlockers + 2 * 64 + 4 * 16, "FrameData layout");
 static_assert(sizeof(GBufferPush) == 96, "GBufferPush layout");
 static_assert(sizeof(ShadePush) == 112, "ShadePush layout");
-static_assert(sizeof(TemporalPush) == 32, "TemporalPush layout");
+static_assert(sizeof(TemporalPush) == 48, "TemporalPush layout");
 static_assert(sizeof(FieldInstance) == 160, "FieldInstance layout");
 static_assert(sizeof(FieldPackPush) == 96, "FieldPackPush layout");
 static_assert(sizeof(ShadowTile) == 128, "ShadowTile layout");

@@ -17,9 +17,10 @@
 // - Moved shadows: a moving shadow is not a moving surface. Where the path
 //   to a light passes the box of the casters that moved, history stands for
 //   at most params.y samples, however still the receiver.
-// - Settled pixels: full history that stays where it was and passes the clamp
-//   keeps its converged value; the new sample is not blended in, so still
-//   parts of the image do not shimmer during playback.
+// - Settled pixels: under unchanged lights and world, full history that stays
+//   where it was, away from what moved, keeps its converged value; the new
+//   sample is not blended in, so still parts of the image do not shimmer
+//   during playback.
 // The accumulation's running mean then goes on from history's samples
 // (accum_passes.z), up to image.w of them.
 #include "shared.h"
@@ -60,6 +61,15 @@ bool light_path_crosses_change(vec3 p, int l) {
   vec3 near = min(t0, t1), far = max(t0, t1);
   float enter = max(max(max(near.x, near.y), near.z), 0.0), leave = min(min(min(far.x, far.y), far.z), t_max);
   return enter <= leave;
+}
+
+// Whether p is within the changed box's own size of it (the sky it sees may
+// be what moved).
+bool near_change(vec3 p) {
+  if (frame.changed_lo.w == 0.0) return false;
+  vec3 lo = frame.changed_lo.xyz, hi = frame.changed_hi.xyz;
+  vec3 outside = max(max(lo - p, p - hi), 0.0);
+  return length(outside) <= length(hi - lo);
 }
 
 // Whether history's texel q saw depth `depth`: within the range of depths
@@ -159,13 +169,14 @@ void main() {
   for (int l = 0; l < pc.image.z && !background; ++l)
     if (light_path_crosses_change(position.xyz, l)) shadow_moved = true, samples = min(samples, pc.params.y);
   float w = 1.0 / (samples + 1.0);  // this frame's sample's share
-  // Settled: a pixel whose full history stays on screen where it was, inside
-  // this frame's spread, out of any moved shadow, is the converged still
-  // image; a new jittered sample would only make it shimmer from frame to
-  // frame (what the still accumulation stops doing after its samples too).
-  bool settled = samples >= float(pc.image.w) && scale <= 1.0 && !shadow_moved &&
-                 all(lessThan(abs(at - vec2(pixel)), vec2(1e-3)));
-  if (settled) w = 0.0;
+  // Settled: under the same lights and world, a pixel whose full history
+  // stays on screen where it was, out of any moved shadow and away from
+  // what moved (whose sky it may share), is the converged still image; a new
+  // jittered sample would only make it shimmer from frame to frame (what the
+  // still accumulation stops doing after its samples too).
+  bool settled = pc.settle.x == 1u && samples >= float(pc.image.w) && !shadow_moved &&
+                 !(!background && near_change(position.xyz)) && all(lessThan(abs(at - vec2(pixel)), vec2(1e-3)));
+  if (settled) w = 0.0, clipped = history.rgb, shadow_history = history_shadow;
   imageStore(resolved_color, pixel, vec4(mix(clipped, current.rgb, w), current.a));
   // History's depths, moved as this surface point moved in depth since.
   float moved = background ? 0.0 : passes.x - motion.z;

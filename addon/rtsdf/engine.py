@@ -11,6 +11,8 @@ from gpu_extras.presets import draw_texture_2d
 
 from . import native, sync
 
+# An F12 render shows its image so far this often (seconds).
+PREVIEW_SECONDS = 1.0
 # The latest viewport frame's state (frames, converged, ms, size), for
 # scripts and tests that wait for the viewport to settle.
 last_view_draw = {}
@@ -45,39 +47,47 @@ class RTSDFRenderEngine(bpy.types.RenderEngine):
 
     def render(self, depsgraph):
         scene = depsgraph.scene
-        width, height = sync.render_size(scene)
         session, error = native.session()
         if session is None:
             self.report({"ERROR"}, f"RTSDF: {error}")
             return
+        self.add_pass("Shadow", 1, "X")
+        shown = {"result": None, "at": time.perf_counter()}
         try:
             self.update_stats("RTSDF", "Reading the scene")
             data = sync.extract(depsgraph)
+            for warning in data["warnings"]:
+                self.report({"WARNING"}, f"RTSDF: {warning}")
+            width, height = data["width"], data["height"]  # (the Render Region's, when set)
             self.update_stats("RTSDF", f"Rendering on {session.device}")
 
-            def progress(done, total):
+            def progress(done, total, preview):
                 self.update_progress(done / total)
                 self.update_stats("RTSDF", f"Sample {done}/{total} on {session.device}")
+                # The image so far, every PREVIEW_SECONDS, as Cycles shows its samples.
+                if done < total and time.perf_counter() - shown["at"] >= PREVIEW_SECONDS:
+                    if shown["result"] is None:
+                        shown["result"] = self.begin_result(0, 0, width, height)
+                    self.write_combined(shown["result"], preview(), scene)
+                    self.update_result(shown["result"])
+                    shown["at"] = time.perf_counter()
                 return not self.test_break()
 
             out = session.render(data, self.final_render_settings(scene), progress, scene.render.use_persistent_data)
-        except sync.SceneError as e:
+        except (sync.SceneError, RuntimeError) as e:  # (RuntimeError: the native core's: bad input, device, memory)
             self.report({"ERROR"}, f"RTSDF: {e}")
-            return
-        except RuntimeError as e:  # the native core's errors (bad input, device, memory)
-            self.report({"ERROR"}, f"RTSDF: {e}")
+            if shown["result"] is not None:
+                self.end_result(shown["result"], cancel=True)
             return
         if out["samples_done"] == 0:
+            if shown["result"] is not None:
+                self.end_result(shown["result"], cancel=True)
             return
 
-        self.add_pass("Shadow", 1, "X")
-        result = self.begin_result(0, 0, width, height)
+        result = shown["result"] or self.begin_result(0, 0, width, height)
         layer = result.layers[0]
+        self.write_combined(result, out["combined"], scene)
         # Blender stores rows bottom to top.
-        combined = np.flipud(out["combined"]).copy()
-        if not scene.render.film_transparent:
-            combined[..., 3] = 1.0
-        layer.passes["Combined"].rect = combined.reshape(-1, 4)
         if "Depth" in layer.passes:
             layer.passes["Depth"].rect = np.flipud(out["depth"]).reshape(-1, 1)
         if "Shadow" in layer.passes:
@@ -96,6 +106,13 @@ class RTSDFRenderEngine(bpy.types.RenderEngine):
             print(f"RTSDF:   {line}")
         warn_about_fields(self, out["stats"])
 
+    @staticmethod
+    def write_combined(result, combined, scene):
+        """The Combined pass of `result` from an image with rows top to bottom (Blender's run bottom to top)."""
+        combined = np.flipud(combined).copy()
+        if not scene.render.film_transparent:
+            combined[..., 3] = 1.0
+        result.layers[0].passes["Combined"].rect = combined.reshape(-1, 4)
 
     def final_render_settings(self, scene):
         """The scene's settings; in an animation render with Persistent Data
@@ -133,7 +150,8 @@ class RTSDFRenderEngine(bpy.types.RenderEngine):
                                     if isinstance(update.id, bpy.types.Object) and update.is_updated_geometry}
         meshes, instances = sync.geometry(depsgraph, self.mesh_cache, stale)
         signature = ([m["key"] for m in meshes],
-                     [(i["mesh"], tuple(i["color"]), i["casts_shadow"]) for i in instances])
+                     [(i["mesh"], tuple(i["color"]), i["casts_shadow"], i["visible_camera"], i["holdout"])
+                      for i in instances])
         matrices = [i["matrix"] for i in instances]
         if first or signature != self.signature:
             self.viewport.sync({"meshes": meshes, "instances": instances})

@@ -32,17 +32,51 @@ def mesh_arrays(obj):
         if not np.isfinite(positions).all():
             raise SceneError(f"Object '{obj.name}' has NaN or infinite vertex coordinates")
         arrays = {"name": obj.name, "positions": positions, "indices": indices.reshape(-1, 3).astype(np.uint32)}
-        # Vertex normals only where every face is smooth-shaded (and no custom
-        # split normals): otherwise faces shade flat, as sharp edges need.
-        smooth = np.empty(len(mesh.polygons), dtype=bool)
-        mesh.polygons.foreach_get("use_smooth", smooth)
-        if smooth.all() and not mesh.has_custom_normals:
+        shading = normals_domain(mesh)
+        if shading == "POINT":
             normals = np.empty(len(mesh.vertices) * 3, dtype=np.float32)
             mesh.vertices.foreach_get("normal", normals)
             arrays["normals"] = normals.reshape(-1, 3)
-        return arrays
+        elif shading == "CORNER":
+            split_at_sharp_corners(mesh, arrays)
+        return arrays  # (FACE: no normals, the G-buffer shades each face flat)
     finally:
         obj.to_mesh_clear()
+
+
+def normals_domain(mesh):
+    """How the mesh's shading normals vary: per vertex (every face smooth),
+    per face (every face flat) or per face corner (smooth and flat faces
+    mixed, sharp edges under Auto Smooth, custom split normals), as Blender
+    4.1's Mesh.normals_domain says."""
+    if hasattr(mesh, "normals_domain"):
+        return mesh.normals_domain
+    smooth = np.empty(len(mesh.polygons), dtype=bool)
+    mesh.polygons.foreach_get("use_smooth", smooth)
+    if mesh.has_custom_normals or (smooth.any() and getattr(mesh, "use_auto_smooth", False)):
+        return "CORNER"
+    return "POINT" if smooth.all() else "FACE" if not smooth.any() else "CORNER"
+
+
+def split_at_sharp_corners(mesh, arrays):
+    """Per-corner shading normals: a vertex whose corners shade differently
+    (along a sharp edge, between a smooth and a flat face) becomes one vertex
+    per normal. (The fields weld vertices by position, so they see the same surface.)"""
+    corners = np.empty(len(mesh.loops) * 3, dtype=np.float32)
+    if hasattr(mesh, "corner_normals"):  # Blender 4.1+
+        mesh.corner_normals.foreach_get("vector", corners)
+    else:
+        mesh.calc_normals_split()
+        mesh.loops.foreach_get("normal", corners)
+    loops = np.empty(len(mesh.loop_triangles) * 3, dtype=np.int32)
+    mesh.loop_triangles.foreach_get("loops", loops)
+    normals = corners.reshape(-1, 3)[loops]
+    vertices = arrays["indices"].reshape(-1).astype(np.int64)
+    keys = np.column_stack([vertices, np.round(normals * 32767.0).astype(np.int64)])
+    unique, first, inverse = np.unique(keys, axis=0, return_index=True, return_inverse=True)
+    arrays["positions"] = np.ascontiguousarray(arrays["positions"][unique[:, 0]])
+    arrays["normals"] = np.ascontiguousarray(normals[first])
+    arrays["indices"] = inverse.reshape(-1, 3).astype(np.uint32)
 
 
 def base_color(obj):
@@ -102,8 +136,12 @@ def light_data(light, matrix):
     return data
 
 
-def world_color(scene):
-    """The world's uniform colour times strength (what lights a diffuse surface from everywhere)."""
+def world_color(scene, warnings=None):
+    """The world's light as one colour (what lights a diffuse surface from
+    everywhere): the Background's colour times its strength; an Environment
+    Texture feeding it gives its mean radiance over the sphere. Other nodes
+    (a Sky Texture's light cannot be read here) give the world's Viewport
+    Display colour, with a note in `warnings` (a list) to tell the user."""
     world = scene.world
     if world is None:
         return (0.0, 0.0, 0.0)
@@ -111,14 +149,72 @@ def world_color(scene):
         for node in world.node_tree.nodes:
             if node.type == "BACKGROUND" and any(link.is_valid for link in node.outputs[0].links):
                 strength = node.inputs["Strength"].default_value
-                return tuple(c * strength for c in node.inputs["Color"].default_value[:3])
+                color = node.inputs["Color"]
+                if not color.is_linked:
+                    return tuple(c * strength for c in color.default_value[:3])
+                source = color.links[0].from_node
+                if source.type == "TEX_ENVIRONMENT" and source.image is not None:
+                    return tuple(c * strength for c in environment_mean(source.image))
+                if warnings is not None:
+                    warnings.append(f"The world's colour comes from a '{source.bl_label}' node, which RTSDF cannot "
+                                    "read: it lights the scene with the world's Viewport Display colour instead")
+                return tuple(c * strength for c in world.color)
     return tuple(world.color)
+
+
+_environment_means = {}
+
+
+def environment_mean(image):
+    """Mean radiance of an equirectangular environment image over the sphere
+    (rows weighted by the solid angle they cover), linear RGB; cached per
+    image file (an image edited in Blender is read again)."""
+    key = (image.name, image.filepath, tuple(image.size))
+    if image.is_dirty or not image.filepath or key not in _environment_means:
+        width, height = image.size
+        if width == 0 or height == 0:
+            raise SceneError(f"The world's image '{image.name}' has no pixels (missing file?)")
+        pixels = np.empty(width * height * image.channels, dtype=np.float32)
+        image.pixels.foreach_get(pixels)
+        rgb = pixels.reshape(height, width, image.channels)[..., :3]
+        if not image.is_float and image.colorspace_settings.name == "sRGB":
+            rgb = np.where(rgb <= 0.04045, rgb / 12.92, ((rgb + 0.055) / 1.055) ** 2.4)
+        latitude = (np.arange(height) + 0.5) / height * np.pi - 0.5 * np.pi
+        weights = np.cos(latitude)
+        _environment_means[key] = tuple(float(c) for c in (rgb.mean(axis=1) * weights[:, None]).sum(0) / weights.sum())
+    return _environment_means[key]
 
 
 def render_size(scene):
     render = scene.render
     scale = render.resolution_percentage / 100.0
     return max(1, int(render.resolution_x * scale)), max(1, int(render.resolution_y * scale))
+
+
+def render_region(scene, width, height):
+    """(x, y, w, h): the pixels a render covers (x, y from the bottom left):
+    the Render Region (Output > Format > Render Region) when set, else the
+    whole frame. Blender takes the region's pixels as it truncates them."""
+    render = scene.render
+    if not render.use_border:
+        return 0, 0, width, height
+    x0, x1 = int(render.border_min_x * width), int(render.border_max_x * width)
+    y0, y1 = int(render.border_min_y * height), int(render.border_max_y * height)
+    if x1 <= x0 or y1 <= y0:
+        raise SceneError("The render region holds no pixels")
+    return x0, y0, x1 - x0, y1 - y0
+
+
+def region_projection(projection, width, height, region):
+    """The projection of the whole frame narrowed to `region` (see render_region):
+    the region's part of the frame fills the clip space."""
+    x, y, w, h = region
+    narrow = np.eye(4, dtype=np.float32)
+    for axis, (start, size, full) in enumerate(((x, w, width), (y, h, height))):
+        centre = (2.0 * start + size) / full - 1.0  # the region's centre in the frame's NDC
+        narrow[axis, axis] = full / size
+        narrow[axis, 3] = -centre * full / size
+    return narrow @ projection
 
 
 def camera_data(depsgraph, camera, width, height):
@@ -149,6 +245,25 @@ def geometry_key(instance):
     return f"{owner}/{obj.data.name}@{obj.data.as_pointer():x}", owner
 
 
+def holdout_collections(view_layer):
+    """Names of the collections the view layer marks Holdout (they and their children)."""
+    names, pending = set(), [(view_layer.layer_collection, False)]
+    while pending:
+        layer, inherited = pending.pop()
+        held = inherited or layer.holdout
+        if held:
+            names.add(layer.collection.name)
+        pending.extend((child, held) for child in layer.children)
+    return names
+
+
+def is_holdout(obj, held_collections):
+    """Object Properties > Visibility > Holdout, or a collection marked Holdout in the view layer."""
+    original = obj.original
+    return bool(getattr(original, "is_holdout", False)) or \
+        any(c.name in held_collections for c in original.users_collection)
+
+
 def geometry(depsgraph, cache=None, stale=None):
     """(meshes, instances) as the native module takes them. With `cache` (a
     dict kept by the caller, mesh key -> arrays), a mesh whose owner (see
@@ -156,6 +271,7 @@ def geometry(depsgraph, cache=None, stale=None):
     is taken from the cache instead of being read again. Each mesh dict
     carries its "key" and "owner"."""
     meshes, instances, mesh_index = [], [], {}
+    held = holdout_collections(depsgraph.view_layer)
     for instance in depsgraph.object_instances:
         obj = instance.object
         if obj.type not in GEOMETRY_TYPES:
@@ -180,8 +296,10 @@ def geometry(depsgraph, cache=None, stale=None):
             continue
         instances.append({"mesh": mesh_index[key], "matrix": np.array(instance.matrix_world, dtype=np.float32),
                           "color": base_color(obj),
-                          # Object Properties > Visibility > Ray Visibility > Shadow
-                          "casts_shadow": bool(getattr(obj, "visible_shadow", True))})
+                          # Object Properties > Visibility > Ray Visibility > Shadow, > Camera
+                          "casts_shadow": bool(getattr(obj, "visible_shadow", True)),
+                          "visible_camera": bool(getattr(obj, "visible_camera", True)),
+                          "holdout": is_holdout(obj, held)})
     if cache is not None:
         for gone in set(cache) - set(mesh_index):  # (objects deleted, geometry evaluated anew)
             del cache[gone]
@@ -200,17 +318,24 @@ def extract(depsgraph):
     scene = depsgraph.scene
     if scene.camera is None:
         raise SceneError("The scene has no camera")
+    if scene.camera.type == "CAMERA" and scene.camera.data.type == "PANO":
+        raise SceneError("Panoramic cameras are not supported: RTSDF renders perspective and orthographic cameras")
     width, height = render_size(scene)
+    region = render_region(scene, width, height)
     meshes, instances = geometry(depsgraph)
-    camera = scene.camera.evaluated_get(depsgraph)
+    camera = camera_data(depsgraph, scene.camera.evaluated_get(depsgraph), width, height)
+    camera["projection"] = region_projection(camera["projection"], width, height, region)
+    warnings = []
+    ambient = world_color(scene, warnings)
     return {
+        "warnings": warnings,
         "meshes": meshes,
         "instances": instances,
         "lights": lights(depsgraph),
-        "camera": camera_data(depsgraph, camera, width, height),
-        "width": width,
-        "height": height,
-        "ambient": world_color(scene),
+        "camera": camera,
+        "width": region[2],
+        "height": region[3],
+        "ambient": ambient,
     }
 
 

@@ -60,10 +60,10 @@ void GBufferPass::record(VkCommandBuffer cmd, const GpuScene& scene, const vk::B
   for (size_t i = 0; i < scene.instances().size(); ++i) {
     const Instance& instance = scene.instances()[i];
     const GpuMeshRange& mesh = scene.meshes()[instance.mesh];
-    if (mesh.triangle_count == 0) continue;
+    if (mesh.triangle_count == 0 || !instance.visible_to_camera) continue;
     gpu::GBufferPush push{};
     push.object_to_world = instance.object_to_world;
-    push.base_color = glm::vec4(instance.base_color, 1.0f);
+    push.base_color = glm::vec4(instance.base_color, instance.holdout ? gpu::kHoldoutSurface : gpu::kShadedSurface);
     push.field_voxel = field_voxels[i];
     push.instance = uint32_t(i);
     pipeline_.push_constants(cmd, push);

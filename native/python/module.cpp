@@ -125,6 +125,8 @@ rtsdf::Scene scene_of(const py::dict& scene_desc) {
     instance.object_to_world = mat4_of(d["matrix"]);
     if (d.contains("color")) instance.base_color = vec3_of(d["color"]);
     instance.casts_shadow = get<bool>(d, "casts_shadow", true);
+    instance.visible_to_camera = get<bool>(d, "visible_camera", true);
+    instance.holdout = get<bool>(d, "holdout", false);
     scene.instances.push_back(instance);
   }
   return scene;
@@ -378,12 +380,22 @@ class Session {
     const glm::vec3 ambient = vec3_of(scene_desc["ambient"]);
     rtsdf::RenderSettings settings = settings_of(settings_desc);
 
-    // progress(done, total) -> bool: False stops the render (Blender's cancel).
+    // progress(done, total, preview) -> bool: False stops the render
+    // (Blender's cancel); preview() reads the Combined image so far (rows top
+    // to bottom), for a progressive display.
     rtsdf::Renderer::Progress report;
     if (!progress.is_none())
-      report = [&progress](int done, int total) {
+      report = [&progress, this, width, height](int done, int total) {
         py::gil_scoped_acquire acquire;
-        return progress(done, total).cast<bool>();
+        py::cpp_function preview([this, width, height]() {
+          rtsdf::RenderOutput partial;
+          {
+            py::gil_scoped_release release;
+            partial = renderer_.read(/*passes=*/false);
+          }
+          return image_of(partial.combined, height, width, 4);
+        });
+        return progress(done, total, preview).cast<bool>();
       };
     settings.keep_history = persistent;
     rtsdf::RenderOutput out;
@@ -425,8 +437,8 @@ class Session {
 
  private:
   // The same mesh shapes (vertices, triangles) and instances of the same
-  // meshes, colours and shadow flags as the scene on the device: only
-  // transforms and normals may differ.
+  // meshes, colours and shadow and visibility flags as the scene on the
+  // device: only transforms and normals may differ.
   bool same_shapes(const rtsdf::Scene& scene) const {
     if (scene.meshes.size() != meshes_.size() || scene.instances.size() != instances_.size()) return false;
     for (size_t m = 0; m < meshes_.size(); ++m)
@@ -434,7 +446,9 @@ class Session {
         return false;
     for (size_t i = 0; i < instances_.size(); ++i)
       if (scene.instances[i].mesh != instances_[i].mesh || scene.instances[i].base_color != instances_[i].base_color ||
-          scene.instances[i].casts_shadow != instances_[i].casts_shadow)
+          scene.instances[i].casts_shadow != instances_[i].casts_shadow ||
+          scene.instances[i].visible_to_camera != instances_[i].visible_to_camera ||
+          scene.instances[i].holdout != instances_[i].holdout)
         return false;
     return true;
   }
@@ -489,12 +503,13 @@ PYBIND11_MODULE(rtsdf_native, m) {
       .def("render", &Session::render, py::arg("scene"), py::arg("settings") = py::dict(),
            py::arg("progress") = py::none(), py::arg("persistent") = false,
            "Renders a scene given as plain data: meshes [{positions (N,3), indices (M,3), normals (N,3) optional}], instances "
-           "[{mesh, matrix 4x4 row-major, color, casts_shadow}], lights [{type SUN|POINT|SPOT|AREA, position, direction, color, "
+           "[{mesh, matrix 4x4 row-major, color, casts_shadow, visible_camera, holdout}], lights [{type SUN|POINT|SPOT|AREA, position, direction, color, "
            "energy, angle, radius, spot_size, spot_blend}], camera {world_to_view, projection (OpenGL), "
            "orthographic}, width, height, ambient. settings: the RenderSettings fields by name, among them "
            "shadow_method ('rtsdf', 'rtsdf_world', 'rt_only', 'jfa_only', 'csm_evsm', 'csm_jitter' or 'raytraced') and shadow_map_size (the csm methods). "
            "Returns combined (H,W,4), depth, shadow (rows top to bottom) "
-           "and ms. progress(done, total) is called after each accumulation frame; returning False stops. "
+           "and ms. progress(done, total, preview) is called after each accumulation frame (preview() reads the "
+           "Combined image so far); returning False stops. "
            "persistent=True keeps the scene on the device and the fine SDF between renders when only transforms "
            "change (Blender's persistent data); the result's scene_reused tells whether it did.");
   m.def(

@@ -13,6 +13,7 @@ import unittest
 import addon_utils
 import bpy
 import numpy as np
+from mathutils import Vector
 
 SAMPLE = sys.argv[sys.argv.index("--") + 1]
 LIGHTS = os.path.join(os.path.dirname(SAMPLE), "lights.blend")
@@ -128,6 +129,149 @@ class RenderEngine(unittest.TestCase):
         print(f"lights' shadows off, RTSDF against Cycles: RMSE {rmse:.4f}")
         self.assertLess(rmse, RMSE_TOLERANCE)
         self.assertGreater((rtsdf_image - shadowed)[..., :3].max(), 0.2, "where the shadows were is lit now")
+
+    def test_objects_hidden_from_the_camera_still_cast_shadows_as_in_cycles(self):
+        _, seen = render("RTSDF", self.tmp.name, "camera_on", samples=4)
+        bpy.data.objects["Sphere"].visible_camera = False  # (Ray Visibility > Camera)
+        _, rtsdf_image = render("RTSDF", self.tmp.name, "camera_off", samples=4)
+        _, cycles = render("CYCLES", self.tmp.name, "camera_off_cycles")
+        rmse = float(np.sqrt(np.mean((rtsdf_image[..., :3] - cycles[..., :3]) ** 2)))
+        print(f"sphere hidden from the camera, RTSDF against Cycles: RMSE {rmse:.4f}")
+        self.assertLess(rmse, RMSE_TOLERANCE)
+        self.assertGreater(np.abs(rtsdf_image - seen)[..., :3].max(), 0.2, "the sphere is gone from the image")
+
+    def test_holdout_objects_are_transparent_holes_as_in_cycles(self):
+        bpy.context.scene.render.film_transparent = True
+        _, plain = render("RTSDF", self.tmp.name, "no_holdout", samples=4)
+        bpy.data.objects["Sphere"].is_holdout = True
+        _, rtsdf_image = render("RTSDF", self.tmp.name, "holdout", samples=4)
+        _, cycles = render("CYCLES", self.tmp.name, "holdout_cycles")
+        alpha = float(np.mean(np.abs(rtsdf_image[..., 3] - cycles[..., 3])))
+        covered = cycles[..., 3] > 0.5
+        rmse = float(np.sqrt(np.mean((rtsdf_image[..., :3][covered] - cycles[..., :3][covered]) ** 2)))
+        hole = float(np.mean(rtsdf_image[..., 3] < 0.5) - np.mean(plain[..., 3] < 0.5))
+        print(f"holdout sphere, RTSDF against Cycles: alpha difference {alpha:.4f}, RMSE where covered {rmse:.4f}; "
+              f"the hole is {hole:.1%} of the image")
+        self.assertLess(alpha, 0.02)
+        self.assertLess(rmse, RMSE_TOLERANCE)
+        self.assertGreater(hole, 0.01, "the sphere's pixels are a hole")
+
+    def test_render_region_renders_the_region_as_cycles_does(self):
+        from bpy_extras.object_utils import world_to_camera_view
+        scene = bpy.context.scene
+        at = world_to_camera_view(scene, scene.camera, bpy.data.objects["Sphere"].matrix_world.translation)
+        scene.render.use_border = True
+        scene.render.border_min_x, scene.render.border_max_x = max(at.x - 0.2, 0.0), min(at.x + 0.15, 1.0)
+        scene.render.border_min_y, scene.render.border_max_y = max(at.y - 0.25, 0.0), min(at.y + 0.2, 1.0)
+        for crop in (False, True):
+            with self.subTest(crop=crop):
+                scene.render.use_crop_to_border = crop
+                _, rtsdf_image = render("RTSDF", self.tmp.name, f"region_{crop}", samples=4)
+                _, cycles = render("CYCLES", self.tmp.name, f"region_{crop}_cycles")
+                self.assertEqual(rtsdf_image.shape, cycles.shape)
+                rmse = float(np.sqrt(np.mean((rtsdf_image[..., :3] - cycles[..., :3]) ** 2)))
+                print(f"render region (cropped: {crop}), RTSDF against Cycles: RMSE {rmse:.4f}")
+                self.assertLess(rmse, RMSE_TOLERANCE)
+
+    def test_a_panoramic_camera_is_reported(self):
+        scene = bpy.context.scene
+        scene.camera.data.type = "PANO"
+        scene.render.engine = "RTSDF"
+        scene.render.resolution_percentage = 10
+        self.assertIn("Panoramic cameras are not supported", self.assert_reports_error())
+
+    def test_smooth_and_flat_faces_mixed_shade_as_in_cycles(self):
+        # A coarse sphere (12 x 6 faces, so flat faces show), its lower half flat and its
+        # upper half smooth: Cycles shades each face as marked.
+        import bmesh
+        from bpy_extras.object_utils import world_to_camera_view
+        scene = bpy.context.scene
+        sphere = bpy.data.objects["Sphere"]
+        coarse = bmesh.new()
+        radius = max(vertex.co.length for vertex in sphere.data.vertices)
+        bmesh.ops.create_uvsphere(coarse, u_segments=12, v_segments=6, radius=radius)
+        sphere.data = bpy.data.meshes.new("coarse sphere")
+        coarse.to_mesh(sphere.data)
+        coarse.free()
+        for polygon in sphere.data.polygons:
+            polygon.use_smooth = polygon.center.z > 0.0
+        _, mixed = render("RTSDF", self.tmp.name, "mixed", samples=4)
+        _, cycles = render("CYCLES", self.tmp.name, "mixed_cycles")
+        for polygon in sphere.data.polygons:
+            polygon.use_smooth = False
+        _, flat = render("RTSDF", self.tmp.name, "all_flat", samples=4)
+        # Over the sphere's box on screen (rows from the bottom, as Blender stores them).
+        corners = [world_to_camera_view(scene, scene.camera, sphere.matrix_world @ Vector(c)) for c in sphere.bound_box]
+        height, width = mixed.shape[:2]
+        x0, x1 = int(min(c.x for c in corners) * width), int(np.ceil(max(c.x for c in corners) * width))
+        y0, y1 = int(min(c.y for c in corners) * height), int(np.ceil(max(c.y for c in corners) * height))
+
+        def box_rmse(image):
+            return float(np.sqrt(np.mean((image[y0:y1, x0:x1, :3] - cycles[y0:y1, x0:x1, :3]) ** 2)))
+
+        print(f"smooth and flat faces mixed, RTSDF against Cycles over the sphere: RMSE {box_rmse(mixed):.4f} "
+              f"(all flat: {box_rmse(flat):.4f})")
+        self.assertLess(box_rmse(mixed), RMSE_TOLERANCE)
+        self.assertLess(box_rmse(mixed), 0.8 * box_rmse(flat), "the smooth half shades smooth")
+
+    def test_an_environment_texture_lights_as_its_mean_and_a_sky_is_reported(self):
+        from rtsdf import sync
+        scene = bpy.context.scene
+        world = scene.world
+        world.use_nodes = True
+        tree = world.node_tree
+        background = next(node for node in tree.nodes if node.type == "BACKGROUND")
+        background.inputs["Strength"].default_value = 2.0
+        # The upper half of the sphere of directions white, the lower black: a mean of one half.
+        image = bpy.data.images.new("environment", 64, 32, float_buffer=True)
+        pixels = np.zeros((32, 64, 4), np.float32)
+        pixels[16:] = 1.0
+        pixels[..., 3] = 1.0
+        image.pixels.foreach_set(pixels.ravel())
+        texture = tree.nodes.new("ShaderNodeTexEnvironment")
+        texture.image = image
+        tree.links.new(texture.outputs["Color"], background.inputs["Color"])
+        np.testing.assert_allclose(sync.world_color(scene), (1.0, 1.0, 1.0), atol=1e-3)
+        # A uniform image lights as its colour does, in Cycles too.
+        pixels[..., :3] = 0.15
+        image.pixels.foreach_set(pixels.ravel())
+        image.update()
+        _, rtsdf_image = render("RTSDF", self.tmp.name, "environment", samples=4)
+        _, cycles = render("CYCLES", self.tmp.name, "environment_cycles")
+        rmse = float(np.sqrt(np.mean((rtsdf_image[..., :3] - cycles[..., :3]) ** 2)))
+        print(f"uniform environment texture, RTSDF against Cycles: RMSE {rmse:.4f}")
+        self.assertLess(rmse, RMSE_TOLERANCE)
+        sky = tree.nodes.new("ShaderNodeTexSky")
+        tree.links.new(sky.outputs["Color"], background.inputs["Color"])
+        warnings = []
+        self.assertEqual(sync.world_color(scene, warnings), tuple(2.0 * c for c in world.color))
+        self.assertIn("Sky Texture", warnings[0])
+
+    def test_f12_shows_the_image_so_far(self):
+        from rtsdf import engine, native, sync
+        scene = bpy.context.scene
+        scene.render.resolution_percentage = 25
+        session, _ = native.session()
+        data = sync.extract(bpy.context.evaluated_depsgraph_get())
+        previews = []
+
+        def progress(done, total, preview):
+            previews.append(preview())
+            return True
+
+        out = session.render(data, dict(scene.rtsdf.as_dict(), samples=4), progress)
+        self.assertEqual(len(previews), 4)
+        self.assertEqual(previews[0].shape, out["combined"].shape)
+        np.testing.assert_allclose(previews[-1], out["combined"], atol=1e-6)
+        self.assertGreater(np.abs(previews[0] - previews[-1]).max(), 0.0, "the first preview holds one sample")
+        # The engine shows them (here after every sample) and still ends with the whole render.
+        engine.PREVIEW_SECONDS = 0.0
+        try:
+            _, shown = render("RTSDF", self.tmp.name, "progressive", samples=4)
+        finally:
+            engine.PREVIEW_SECONDS = 1.0
+        _, whole = render("RTSDF", self.tmp.name, "whole", samples=4)
+        self.assertLess(float(np.abs(shown - whole).max()), 1e-4)
 
     def test_point_spot_and_area_lights_close_to_cycles(self):
         # Light units, falloff, spot cone and area cosine as Cycles has them

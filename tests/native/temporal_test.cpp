@@ -179,5 +179,58 @@ TEST_F(TemporalTest, PlaybackFramesOfAStillSceneConvergeLikeAnAccumulation) {
   EXPECT_LT(rms(played), 1.5 * rms(accumulated));
 }
 
+// A still cube's soft shadow beside a cube that moves: once the still scene
+// has converged, playback frames leave the still shadow's pixels exactly as
+// they were (they are settled: no new jittered sample makes them shimmer),
+// while the moving cube's shadow follows it.
+TEST_F(TemporalTest, SettledPixelsDoNotShimmerDuringPlayback) {
+  Light sun = tilted_sun();
+  sun.sun_angle = float(20.0 * M_PI / 180.0);  // (a wide, noisy penumbra)
+  Scene two = cube_over_ground();
+  two.instances[0].object_to_world = glm::translate(glm::mat4(1.0f), glm::vec3(-0.5f, 1.0f, 0));  // moves
+  two.instances.push_back({0, glm::translate(glm::mat4(1.0f), glm::vec3(-0.5f, -1.0f, 0)), glm::vec3(0.8f)});
+  GpuScene scene(context(), two);
+  Renderer renderer(context());
+  RenderSettings settings = playback_settings();
+  settings.samples = 8;
+  renderer.begin(scene, top_view(), {sun}, glm::vec3(0.05f), kSize, kSize, settings, true);
+  for (int frame = 0; frame < settings.samples; ++frame) renderer.add_frame();
+  std::vector<std::vector<float>> frames;
+  for (int step = 1; step <= 3; ++step) {
+    scene.set_transforms({glm::translate(glm::mat4(1.0f), glm::vec3(-0.5f + 0.1f * float(step), 1.0f, 0)),
+                          glm::mat4(1.0f), glm::translate(glm::mat4(1.0f), glm::vec3(-0.5f, -1.0f, 0))});
+    renderer.begin(scene, top_view(), {sun}, glm::vec3(0.05f), kSize, kSize, settings, true);
+    renderer.add_frame();
+    frames.push_back(renderer.read().shadow);
+  }
+  // The still cube's penumbra (y near -1, beyond the cube's far edge along +x), and the moving one's.
+  double still_change = 0.0, moving_change = 0.0, penumbra = 0.0;
+  for (double x = 0.1; x <= 1.0; x += 4.0 / kSize)
+    for (double y = -1.4; y <= -0.6; y += 4.0 / kSize) {
+      const size_t i = pixel_at(x, y), j = pixel_at(x, y + 2.0);
+      penumbra = std::max(penumbra, double(std::min(frames[0][i], 1.0f - frames[0][i])));
+      for (size_t f = 1; f < frames.size(); ++f) {
+        still_change = std::max(still_change, double(std::abs(frames[f][i] - frames[f - 1][i])));
+        moving_change = std::max(moving_change, double(std::abs(frames[f][j] - frames[f - 1][j])));
+      }
+    }
+  std::printf("largest change between playback frames: still shadow %.6f, moving shadow %.3f\n", still_change,
+              moving_change);
+  ASSERT_GT(penumbra, 0.2) << "the still shadow has a penumbra to shimmer";
+  EXPECT_EQ(still_change, 0.0);
+  EXPECT_GT(moving_change, 0.2) << "the moving cube's shadow moved";
+
+  // A turned sun moves every shadow: nothing is settled then.
+  sun.direction = glm::vec3(0.5f, 0.3f, -0.8f);
+  renderer.begin(scene, top_view(), {sun}, glm::vec3(0.05f), kSize, kSize, settings, true);
+  renderer.add_frame();
+  const std::vector<float> turned = renderer.read().shadow;
+  double turned_change = 0.0;
+  for (double x = 0.1; x <= 1.0; x += 4.0 / kSize)
+    for (double y = -1.4; y <= -0.6; y += 4.0 / kSize)
+      turned_change = std::max(turned_change, double(std::abs(turned[pixel_at(x, y)] - frames.back()[pixel_at(x, y)])));
+  EXPECT_GT(turned_change, 0.2) << "the still cube's shadow follows the sun";
+}
+
 }  // namespace
 }  // namespace rtsdf
