@@ -64,17 +64,42 @@ std::vector<T> read_plane(const vk::Context& context, const vk::Image& image, in
   return values;
 }
 
-struct MethodName {
-  ShadowMethod method;
+// The names settings and Python give an enum's values.
+template <typename Enum>
+struct Named {
+  Enum value;
   const char* name;
 };
-constexpr MethodName kMethodNames[] = {{ShadowMethod::Rtsdf, "rtsdf"},
-                                       {ShadowMethod::RtsdfWorld, "rtsdf_world"},
-                                       {ShadowMethod::RtOnly, "rt_only"},
-                                       {ShadowMethod::JfaOnly, "jfa_only"},
-                                       {ShadowMethod::CsmEvsm, "csm_evsm"},
-                                       {ShadowMethod::CsmJitter, "csm_jitter"},
-                                       {ShadowMethod::RayTraced, "raytraced"}};
+
+template <typename Enum, size_t N>
+Enum parse_name(const Named<Enum> (&table)[N], const std::string& name, const char* what) {
+  std::string known;
+  for (const Named<Enum>& entry : table) {
+    if (name == entry.name) return entry.value;
+    known += std::string(known.empty() ? "" : ", ") + entry.name;
+  }
+  throw Error("unknown " + std::string(what) + " '" + name + "': use one of " + known);
+}
+
+template <typename Enum, size_t N>
+const char* name_of(const Named<Enum> (&table)[N], Enum value) {
+  for (const Named<Enum>& entry : table)
+    if (entry.value == value) return entry.name;
+  return "unknown";
+}
+
+constexpr Named<ShadowMethod> kMethodNames[] = {{ShadowMethod::Rtsdf, "rtsdf"},
+                                                {ShadowMethod::RtsdfWorld, "rtsdf_world"},
+                                                {ShadowMethod::RtOnly, "rt_only"},
+                                                {ShadowMethod::JfaOnly, "jfa_only"},
+                                                {ShadowMethod::CsmEvsm, "csm_evsm"},
+                                                {ShadowMethod::CsmJitter, "csm_jitter"},
+                                                {ShadowMethod::RayTraced, "raytraced"}};
+constexpr Named<FieldView> kFieldViewNames[] = {{FieldView::None, "none"},
+                                                {FieldView::DistanceSlice, "distance_slice"},
+                                                {FieldView::MarchSteps, "march_steps"},
+                                                {FieldView::FieldResolution, "field_resolution"},
+                                                {FieldView::ExactRays, "exact_rays"}};
 
 // The whole scene's fine SDF (world space).
 bool uses_fine_sdf(ShadowMethod method) { return method == ShadowMethod::RtsdfWorld || method == ShadowMethod::RtOnly; }
@@ -127,20 +152,10 @@ ObjectFieldSettings object_field_settings(const RenderSettings& settings, const 
 
 }  // namespace
 
-ShadowMethod parse_shadow_method(const std::string& name) {
-  std::string known;
-  for (const MethodName& m : kMethodNames) {
-    if (name == m.name) return m.method;
-    known += std::string(known.empty() ? "" : ", ") + m.name;
-  }
-  throw Error("unknown shadow method '" + name + "': use one of " + known);
-}
-
-const char* shadow_method_name(ShadowMethod method) {
-  for (const MethodName& m : kMethodNames)
-    if (m.method == method) return m.name;
-  return "unknown";
-}
+ShadowMethod parse_shadow_method(const std::string& name) { return parse_name(kMethodNames, name, "shadow method"); }
+const char* shadow_method_name(ShadowMethod method) { return name_of(kMethodNames, method); }
+FieldView parse_field_view(const std::string& name) { return parse_name(kFieldViewNames, name, "field view"); }
+const char* field_view_name(FieldView view) { return name_of(kFieldViewNames, view); }
 
 Renderer::Renderer(const vk::Context& context)
     : context_(context),
@@ -308,6 +323,9 @@ void Renderer::begin(GpuScene& scene, const Camera& camera, const std::vector<Li
     rebuild_sdfs(scene, settings);  // (otherwise the SDFs, independent of the view, stay as they are)
   else
     stats_.fields_regenerated = 0, stats_.traced_texels = stats_.last_frame_traced_texels = 0;
+  // History shows what these settings draw: another method or field view draws something else.
+  const bool same_look = settings.shadow_method == settings_.shadow_method && settings.field_view == settings_.field_view &&
+                         settings.field_view_height == settings_.field_view_height;
   scene_ = &scene;
   settings_ = settings;
   timings_.coarse_ms = ms_since(start);
@@ -322,7 +340,7 @@ void Renderer::begin(GpuScene& scene, const Camera& camera, const std::vector<Li
   gbuffer_.resize(width, height);
   shade_.resize(glm::ivec2(width, height), light_count_);
   // History: the accumulation so far, if it drew this scene at this size.
-  has_history_ = settings.temporal_reuse && frame_ > 0 && accum_color_.handle() && width == width_ &&
+  has_history_ = settings.temporal_reuse && same_look && frame_ > 0 && accum_color_.handle() && width == width_ &&
                  height == height_ && drawn_scene_id_ == scene.id() &&
                  drawn_transforms_.size() == scene.instances().size();
   const bool size_changed = width != width_ || height != height_ || !accum_color_.handle();
@@ -380,6 +398,7 @@ void Renderer::begin(GpuScene& scene, const Camera& camera, const std::vector<Li
   push_.march = glm::vec4(settings.shadow_epsilon, settings.max_step, 1.0f, 0.0f);
   push_.field_reach = glm::vec4(settings.max_step * march_.largest_voxel(), 0.0f, 0.0f, 0.0f);
   push_.surface = glm::vec4(0.25f, 0.0f, 0.0f, 0.0f);
+  push_.debug = glm::vec4(float(settings.field_view), settings.field_view_height, 0.0f, 0.0f);
   switch (settings.shadow_method) {
     case ShadowMethod::Rtsdf:
     case ShadowMethod::RtsdfWorld:

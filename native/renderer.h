@@ -56,6 +56,20 @@ enum class ShadowMethod {
 ShadowMethod parse_shadow_method(const std::string& name);
 const char* shadow_method_name(ShadowMethod method);
 
+// What the image shows: the shaded scene, or a view of the distance fields
+// in its place (shaders/field_views.glsl.h). Settings and Python name them
+// none, distance_slice, march_steps, field_resolution and exact_rays.
+enum class FieldView {
+  None = gpu::kDebugNone,
+  DistanceSlice = gpu::kDebugDistanceSlice,      // the fields' distance on the plane z = field_view_height
+  MarchSteps = gpu::kDebugMarchSteps,            // the zero level sphere-traced from the camera, by its steps
+  FieldResolution = gpu::kDebugFieldResolution,  // each surface by its field's voxel against the pixel's size
+  ExactRays = gpu::kDebugExactRays,              // the shaded image, the pixels the hybrid traced marked
+};
+// Throws rtsdf::Error for an unknown name.
+FieldView parse_field_view(const std::string& name);
+const char* field_view_name(FieldView view);
+
 struct RenderSettings {
   ShadowMethod shadow_method = ShadowMethod::Rtsdf;
   int coarse_resolution = 64;
@@ -66,6 +80,8 @@ struct RenderSettings {
   int shadow_max_steps = 96;
   float max_step = 4.0f;         // voxels of the field marched, as shadow_epsilon
   int shadow_map_size = 1024;    // csm_evsm, csm_jitter: texels per side of each cascade (and spot view, cube face)
+  FieldView field_view = FieldView::None;
+  float field_view_height = 0.0f;  // world z of FieldView::DistanceSlice's plane
   // Signed-field methods (rtsdf, rtsdf_world, rt_only): where the march cannot
   // tell lit from shadowed with shadow_epsilon to spare (penumbrae, contact,
   // occluders thinner than the field resolves), this many rays per light and

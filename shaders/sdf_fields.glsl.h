@@ -25,6 +25,18 @@ vec2 texel_pair(FieldWords store, uint first, uint index) {
   return (index & 1u) == 0u ? a : vec2(a.y, b.x);
 }
 
+// The slot of the brick holding q's cell (q in the field's voxel space): at
+// least f.dims.w where no brick is stored. `cell` is the cell whose 8 texels
+// surround q (at the faces, the outer one), `brick` the brick holding it.
+uint brick_slot(FieldInstance f, vec3 q, out ivec3 cell, out ivec3 brick) {
+  FieldWords store = FieldWords(f.store.xy);
+  ivec3 dims = f.dims.xyz;
+  cell = clamp(ivec3(floor(q - 0.5)), ivec3(0), max(dims - 2, ivec3(0)));
+  brick = cell / int(kBrickCells);
+  ivec3 bricks = max(dims - 2, ivec3(0)) / int(kBrickCells) + 1;
+  return store.words[kBrickTableFirst + uint(brick.x + bricks.x * (brick.y + bricks.y * brick.z))];
+}
+
 // The field at q (its voxel space, inside the grid), in its voxels: from
 // the brick that holds q's cell where one is stored, else from the far
 // field. Either is a block of half-float texels (x fastest) read by one
@@ -32,12 +44,8 @@ vec2 texel_pair(FieldWords store, uint first, uint index) {
 // diverge.
 float field_value_at(FieldInstance f, vec3 q) {
   FieldWords store = FieldWords(f.store.xy);
-  ivec3 dims = f.dims.xyz;
-  // The cell whose 8 texels surround q; at the faces, the outer one (weights clamp to its texels).
-  ivec3 cell = clamp(ivec3(floor(q - 0.5)), ivec3(0), max(dims - 2, ivec3(0)));
-  ivec3 brick = cell / int(kBrickCells);
-  ivec3 bricks = max(dims - 2, ivec3(0)) / int(kBrickCells) + 1;
-  uint slot = store.words[kBrickTableFirst + uint(brick.x + bricks.x * (brick.y + bricks.y * brick.z))];
+  ivec3 cell, brick;  // (at the faces, weights clamp to the outer cell's texels)
+  uint slot = brick_slot(f, q, cell, brick);
   bool stored = slot < uint(f.dims.w);
   // The far field: its grid shares the origin, with box_lo.w of its voxels per fine voxel.
   ivec3 far_dims = f.far_dims.xyz;

@@ -24,6 +24,7 @@ layout(binding = 6, rgba32f) uniform image2D accum_color;   // rgb = Combined, a
 // x = Depth (the nearest seen), y = Shadow (visibility), z = samples in the mean, w = the farthest depth seen
 layout(binding = 7, rgba32f) uniform image2D accum_passes;
 #include "shadow_map_lookup.glsl.h"  // csm_evsm, csm_jitter
+#include "field_views.glsl.h"        // what the fields look like, in place of the image
 
 // This pixel's share of the world light (light < 0) or of light `light`
 // from the quad pass's samples of the four quads around it that lie on its
@@ -128,6 +129,11 @@ void main() {
     }
     shadow = unshadowed > 0.0 ? lit / unshadowed : 1.0;
   }
+  uint view = uint(pc.debug.x);
+  if (view == kDebugDistanceSlice) color = distance_slice_color(pixel, color);
+  if (view == kDebugMarchSteps) color = march_steps_color(pixel);
+  if (view == kDebugFieldResolution) color = field_resolution_color(position, imageLoad(g_albedo, pixel).a, color);
+  if (view == kDebugExactRays && traced_exactly) color = mix(color, vec3(1.0, 0.0, 1.0), 0.6);
   // A running mean over the samples in each pixel: the accumulation frames
   // since begin(), and the reprojected history's (temporal_resolve.comp).
   vec4 previous_color = pc.image.w == 0 ? vec4(0.0) : imageLoad(accum_color, pixel);

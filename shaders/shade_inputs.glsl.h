@@ -154,6 +154,9 @@ float rays_to_light(LightPath path, vec3 p, vec3 n, ivec2 pixel, int count) {
 // (visibility's classify); where it is not, pc.surface.z rays decide, as
 // raytraced's do (AMD's hybrid shadows trace rays alike, where the shadow
 // map cannot tell).
+// Whether this pixel's shading traced rays where its field was unsure (the exact_rays field view).
+bool traced_exactly = false;
+
 float march_light(LightPath path, vec3 origin, vec3 n, float receiver_voxel, float jitter, ivec2 pixel) {
   if (kVisibilityMode == kVisibilityRayTraced) return rays_to_light(path, origin, n, pixel, 1);
   float t_min = pc.march.z * receiver_voxel, escape = 2.0 * receiver_voxel;
@@ -163,6 +166,7 @@ float march_light(LightPath path, vec3 origin, vec3 n, float receiver_voxel, flo
                          crossed_sheet);
     if (v >= 0.0) return v;
     vec3 p = origin - n * (pc.surface.x * receiver_voxel);  // (the rays start at the surface itself)
+    traced_exactly = true;
     return rays_to_light(path, p, n, pixel, int(pc.surface.z));
   }
   return light_visibility(origin, path.march_dir, t_min, path.t_max, path.tan_radius, jitter, escape, pixel);

@@ -231,7 +231,15 @@ struct ShadePush {
                       // w = filter radius (texels; 0: from a blocker search, as wide as the penumbra)
   uvec4 sequence;     // x = this frame's index in the jitter sequences: the accumulation frame, counted on
                       // across frame changes whose history is kept, so reused samples and new ones differ
+  vec4 debug;         // x = kDebug* (a view of the fields in place of the image), y = the slice's world z
 };
+
+// Views of the distance fields in place of the shaded image (ShadePush::debug.x; field_views.glsl.h).
+const uint kDebugNone = 0u;
+const uint kDebugDistanceSlice = 1u;    // the fields' distance on the plane z = debug.y, as a heat map
+const uint kDebugMarchSteps = 2u;       // the fields' zero level sphere-traced from the camera, by its steps
+const uint kDebugFieldResolution = 3u;  // each surface by its field's voxel against the pixel's footprint
+const uint kDebugExactRays = 4u;        // the shaded image, magenta where the hybrid traced rays
 
 // Shadow maps (csm_evsm, csm_jitter). Every view (a sun's cascade, a spot
 // light's view, a face of a point or area light's cube) is one square tile of one atlas.
@@ -269,7 +277,7 @@ static_assert(sizeof(WindingDipole) == 32, "WindingDipole layout");
 static_assert(sizeof(GpuLight) == 64, "GpuLight layout");
 static_assert(sizeof(FrameData) == 112 + 32 * kMaxSkyBlockers + 2 * 64 + 4 * 16, "FrameData layout");
 static_assert(sizeof(GBufferPush) == 96, "GBufferPush layout");
-static_assert(sizeof(ShadePush) == 112, "ShadePush layout");
+static_assert(sizeof(ShadePush) == 128, "ShadePush layout");
 static_assert(sizeof(TemporalPush) == 48, "TemporalPush layout");
 static_assert(sizeof(FieldInstance) == 160, "FieldInstance layout");
 static_assert(sizeof(FieldPackPush) == 96, "FieldPackPush layout");

@@ -4,6 +4,15 @@ import bpy
 from bpy.props import BoolProperty, EnumProperty, FloatProperty, IntProperty
 
 
+def redraw_viewports(self, context):
+    """A setting that changes what the viewport draws: redraw the 3D views now (a scene property
+    changed from the panel or a script does not by itself)."""
+    for window in getattr(context.window_manager, "windows", []):
+        for area in window.screen.areas:
+            if area.type == "VIEW_3D":
+                area.tag_redraw()
+
+
 class RTSDFSettings(bpy.types.PropertyGroup):
     shadow_method: EnumProperty(
         name="Shadow Method", default="rtsdf",
@@ -116,6 +125,27 @@ class RTSDFSettings(bpy.types.PropertyGroup):
                     "objects' and camera's motion (variance-clipped, dropped where a surface was hidden or a moved "
                     "caster crosses the light path) instead of starting from one noisy sample. Deforming meshes "
                     "reproject with their object's motion only")
+
+    field_view: EnumProperty(
+        name="Field View", default="none",
+        items=(("none", "Shaded", "The rendered image"),
+               ("distance_slice", "Distance Slice",
+                "A section at Slice Height (what is in front of it cut away): the fields' signed distance on that "
+                "horizontal plane as a heat map, blue inside, a line every voxel, tinted cyan where a brick of the "
+                "fine field is stored"),
+               ("march_steps", "March Steps",
+                "The fields' surfaces as the shadow march sees them, coloured by the steps it takes to reach them "
+                "(where shadows cost the most)"),
+               ("field_resolution", "Field Resolution",
+                "Each surface by its field's voxel size against the pixel's size there: blue finer than a pixel, "
+                "yellow coarser (where shadows lose detail); grey: in no field"),
+               ("exact_rays", "Exact Rays",
+                "The image, magenta where the field could not tell lit from shadowed and rays were traced")),
+        description="A view of the distance fields in place of the image, to see why a shadow leaks or smears "
+                    "(RTSDF methods)", update=redraw_viewports)
+    field_view_height: FloatProperty(
+        name="Slice Height", default=0.0, subtype="DISTANCE", unit="LENGTH",
+        description="World height (Z) of the Distance Slice view's plane", update=redraw_viewports)
 
     def as_dict(self):
         settings = {name: getattr(self, name) for name in self.__annotations__}

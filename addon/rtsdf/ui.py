@@ -168,6 +168,19 @@ class RTSDF_PT_advanced(RenderPanel, bpy.types.Panel):
         column.prop(settings, "shadow_max_steps", text="Steps")
 
 
+class RTSDF_PT_field_view(RenderPanel, bpy.types.Panel):
+    bl_label = "Field View"
+    bl_options = {"DEFAULT_CLOSED"}
+
+    def draw(self, context):
+        layout = self.split_layout()
+        settings = context.scene.rtsdf
+        layout.prop(settings, "field_view", text="View")
+        row = layout.row()
+        row.active = settings.field_view == "distance_slice"
+        row.prop(settings, "field_view_height", text="Slice Height")
+
+
 class RTSDF_PT_compare(RenderPanel, bpy.types.Panel):
     bl_label = "Compare with Cycles"
     bl_options = {"DEFAULT_CLOSED"}
@@ -187,7 +200,8 @@ class RTSDF_PT_compare(RenderPanel, bpy.types.Panel):
 
 
 classes = (RTSDF_OT_quality_preset, RTSDF_PT_quality_presets, RTSDF_OT_quality_preset_add, RTSDF_PT_sampling, RTSDF_PT_sampling_render,
-           RTSDF_PT_sampling_viewport, RTSDF_PT_shadows, RTSDF_PT_fields, RTSDF_PT_advanced, RTSDF_PT_compare)
+           RTSDF_PT_sampling_viewport, RTSDF_PT_shadows, RTSDF_PT_fields, RTSDF_PT_advanced, RTSDF_PT_field_view,
+           RTSDF_PT_compare)
 
 
 def compatible_panels():

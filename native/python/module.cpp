@@ -166,6 +166,10 @@ rtsdf::RenderSettings settings_of(const py::dict& settings_desc) {
   settings.shadow_method = rtsdf::parse_shadow_method(
       get<std::string>(settings_desc, "shadow_method", rtsdf::shadow_method_name(settings.shadow_method)));
   settings.shadow_map_size = get<int>(settings_desc, "shadow_map_size", settings.shadow_map_size);
+  // "none", "distance_slice", "march_steps", "field_resolution" or "exact_rays"; anything else is an rtsdf.Error.
+  settings.field_view = rtsdf::parse_field_view(
+      get<std::string>(settings_desc, "field_view", rtsdf::field_view_name(settings.field_view)));
+  settings.field_view_height = get<float>(settings_desc, "field_view_height", settings.field_view_height);
   settings.exact_rays = get<int>(settings_desc, "exact_rays", settings.exact_rays);
   settings.coarse_resolution = get<int>(settings_desc, "coarse_resolution", settings.coarse_resolution);
   settings.fine_resolution = get<int>(settings_desc, "fine_resolution", settings.fine_resolution);

@@ -64,5 +64,26 @@ class Viewport(unittest.TestCase):
         self.assertEqual(self.results["validation_messages"], 0)
 
 
+class FieldViewsInTheViewport(unittest.TestCase):
+    """Each of RTSDF's field views draws in the viewport under Xvfb, and differs from the shaded view."""
+
+    def test_each_field_view_draws_something_else(self):
+        with tempfile.TemporaryDirectory() as out:
+            command = ["xvfb-run", "-a", "-s", "-screen 0 1280x800x24", "blender", "--window-geometry", "0", "0",
+                       "1200", "760", "--addons", "rtsdf", SAMPLE, "--python", os.path.join(HERE, "viewport_driver.py"),
+                       "--", out, "--field-views"]
+            process = subprocess.run(command, capture_output=True, text=True, timeout=600)
+            path = os.path.join(out, "viewport.json")
+            self.assertTrue(os.path.exists(path), process.stdout[-3000:] + process.stderr[-3000:])
+            with open(path) as f:
+                results = json.load(f)
+        self.assertEqual(results["errors"], [])
+        self.assertEqual(set(results["field_views"]), {"distance_slice", "march_steps", "field_resolution",
+                                                       "exact_rays"})
+        for view, figures in results["field_views"].items():
+            self.assertGreater(figures["spread"], 0.02, view)
+            self.assertGreater(figures["difference"], 0.002 if view == "exact_rays" else 0.01, view)
+
+
 if __name__ == "__main__":
     unittest.main()

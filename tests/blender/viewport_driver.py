@@ -5,7 +5,7 @@ the time of a frame change plus redraw against EEVEE's in the same run).
 
 xvfb-run -a -s "-screen 0 1280x800x24" blender --window-geometry 0 0 1200 760 --addons rtsdf \
     SCENE.blend --python tests/blender/viewport_driver.py -- OUT_DIR [--moving OBJECT] [--frames N] [--compare-eevee]
-    [--scale S] [--pixel-size N] [--compare-full-first-frame] [--compare-no-temporal-reuse]
+    [--scale S] [--pixel-size N] [--compare-full-first-frame] [--compare-no-temporal-reuse] [--field-views]
 
 --compare-full-first-frame times the frame changes again with Quick First
 Frame off (every pixel marches its lights), after EEVEE's;
@@ -14,6 +14,10 @@ from one sample). --scale sets RTSDF's Viewport Scale (the share of the region's
 height it renders); --pixel-size sets Blender's viewport Pixel Size
 (render.preview_pixel_size: 1, 2, 4 or 8), which the engines that honour it
 (Cycles, EEVEE) use. Compare engines at the same pixel count.
+
+--field-views only screenshots the viewport in each of RTSDF's field views
+(OUT_DIR/field_view_NAME.png; the slice at the mean height of the scene's
+objects other than the ground), and checks each differs from the shaded view.
 
 Opening the .blend from the command line keeps the splash screen away. It
 writes OUT_DIR/viewport.json with the figures and the screenshots as PNGs;
@@ -42,6 +46,7 @@ PIXEL_SIZE = args[args.index("--pixel-size") + 1] if "--pixel-size" in args else
 COMPARE_SETTING_OFF = [(flag, setting, key) for flag, setting, key in (
     ("--compare-full-first-frame", "viewport_quick_first_frame", "full_first_frame_change_ms"),
     ("--compare-no-temporal-reuse", "viewport_temporal_reuse", "no_temporal_reuse_frame_change_ms")) if flag in args]
+FIELD_VIEWS = "--field-views" in args
 TIMEOUT = 120.0
 os.makedirs(OUT, exist_ok=True)
 results = {"errors": []}
@@ -165,6 +170,10 @@ def steps():
             bpy.ops.screen.screenshot_area(filepath=path)
         return read_png(path)
 
+    if FIELD_VIEWS:
+        yield from field_views(scene, space, window, area, region, wait_converged, screenshot)
+        return
+
     # Cycles through the scene camera: the reference shadows, before and after the move.
     ground = ground_mask(scene, width, height)
     cycles_before = render_cycles(scene, os.path.join(OUT, "cycles_before.png"), width, height)
@@ -174,19 +183,8 @@ def steps():
     cycles_after = render_cycles(scene, os.path.join(OUT, "cycles_after.png"), width, height)
     moving.location = start_location
 
-    # The 3D view in Rendered shading with RTSDF, through the camera, nothing drawn over it.
-    scene.render.engine = "RTSDF"
-    space.shading.type = "RENDERED"
-    space.overlay.show_overlays = False
-    space.show_gizmo = False
-    space.show_region_toolbar = False
-    space.show_region_ui = False
-    space.show_region_header = False
-    space.show_region_tool_header = False
+    show_rendered_through_camera(scene, space, window, area, region)
     rv3d = space.region_3d
-    rv3d.view_perspective = "CAMERA"
-    with bpy.context.temp_override(window=window, area=area, region=region):
-        bpy.ops.view3d.view_center_camera()
     started = time.perf_counter()
     yield from wait_converged(started)
     frame = camera_frame_in_region(scene, region, rv3d)
@@ -266,6 +264,34 @@ def steps():
         off_times, _ = yield from frame_changes("RTSDF", record=False)
         results[key] = {"median": 1000 * float(np.median(off_times)), "max": 1000 * float(np.max(off_times))}
         setattr(scene.rtsdf, setting, True)
+
+
+def show_rendered_through_camera(scene, space, window, area, region):
+    """The 3D view in Rendered shading with RTSDF, through the camera, nothing drawn over it."""
+    scene.render.engine = "RTSDF"
+    space.shading.type = "RENDERED"
+    space.overlay.show_overlays = False
+    space.show_gizmo = False
+    for name in ("show_region_toolbar", "show_region_ui", "show_region_header", "show_region_tool_header"):
+        setattr(space, name, False)
+    space.region_3d.view_perspective = "CAMERA"
+    with bpy.context.temp_override(window=window, area=area, region=region):
+        bpy.ops.view3d.view_center_camera()
+
+
+def field_views(scene, space, window, area, region, wait_converged, screenshot):
+    show_rendered_through_camera(scene, space, window, area, region)
+    yield from wait_converged(time.perf_counter())
+    shaded = screenshot("field_view_none.png")
+    heights = [o.matrix_world.translation.z for o in scene.objects if o.type == "MESH" and o.name != "Ground"]
+    scene.rtsdf.field_view_height = float(np.mean(heights)) if heights else 0.0
+    results["field_views"] = {}
+    for view in ("distance_slice", "march_steps", "field_resolution", "exact_rays"):
+        scene.rtsdf.field_view = view
+        yield from wait_converged(time.perf_counter())
+        shot = screenshot(f"field_view_{view}.png")
+        results["field_views"][view] = {"difference": float(np.abs(shot - shaded).mean()), "spread": float(shot.std())}
+    scene.rtsdf.field_view = "none"
 
 
 def run():
