@@ -42,6 +42,7 @@ GpuScene::GpuScene(const vk::Context& context, const Scene& scene)
     if (scene_.instances[i].casts_shadow) casters_.push_back(i);
   update_bounds();
   upload_raster();
+  upload_materials();
 }
 
 void GpuScene::update_bounds() {
@@ -118,7 +119,8 @@ Bounds GpuScene::mesh_bounds(uint32_t mesh) const {
 
 void GpuScene::upload_raster() {
   std::vector<glm::vec3> positions, normals;
-  std::vector<uint32_t> indices;
+  std::vector<glm::vec2> uvs;
+  std::vector<uint32_t> indices, materials;
   meshes_.clear();
   for (const Mesh& mesh : scene_.meshes) {
     meshes_.push_back({uint32_t(indices.size()), uint32_t(positions.size()), uint32_t(mesh.triangle_count())});
@@ -128,13 +130,53 @@ void GpuScene::upload_raster() {
       normals.resize(positions.size(), glm::vec3(0.0f));
     else
       normals.insert(normals.end(), mesh.normals.begin(), mesh.normals.end());
+    if (mesh.uvs.empty())
+      uvs.resize(positions.size(), glm::vec2(0.0f));
+    else
+      uvs.insert(uvs.end(), mesh.uvs.begin(), mesh.uvs.end());
+    if (mesh.materials.empty())
+      materials.resize(indices.size() / 3, 0u);
+    else
+      materials.insert(materials.end(), mesh.materials.begin(), mesh.materials.end());
   }
+  uvs_ = storage(context_, uvs);
+  triangle_materials_ = storage(context_, materials);
   static_assert(sizeof(glm::vec3) == 3 * sizeof(float), "positions are uploaded as packed floats");
   positions_ = storage(context_, positions);
   // (also the G-buffer's index buffer)
   indices_ = vk::upload_buffer(context_, indices.data(), indices.size() * sizeof(uint32_t),
                                VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_INDEX_BUFFER_BIT);
   normals_ = storage(context_, normals);
+}
+
+void GpuScene::upload_materials() {
+  // Each image once, however many slots sample it.
+  std::vector<uint32_t> texels, first_texel;
+  for (const Texture& texture : scene_.textures) {
+    first_texel.push_back(uint32_t(texels.size()));
+    texels.insert(texels.end(), texture.texels.begin(), texture.texels.end());
+  }
+  std::vector<gpu::GpuMaterial> materials;
+  material_ranges_.clear();
+  for (const Instance& instance : scene_.instances) {
+    material_ranges_.emplace_back(uint32_t(materials.size()), uint32_t(instance.materials.size()));
+    for (const Material& material : instance.materials) {
+      gpu::GpuMaterial m{};
+      m.base_color = glm::vec4(material.base_color, 1.0f);
+      if (material.texture >= 0) {
+        const Texture& texture = scene_.textures[size_t(material.texture)];
+        m.texel_first = first_texel[size_t(material.texture)];
+        m.width = uint32_t(texture.width);
+        m.height = uint32_t(texture.height);
+      }
+      materials.push_back(m);
+    }
+  }
+  // (a storage buffer is never empty)
+  if (materials.empty()) materials.emplace_back();
+  if (texels.empty()) texels.push_back(0u);
+  materials_ = storage(context_, materials);
+  texels_ = storage(context_, texels);
 }
 
 void GpuScene::build_bottom_level(uint32_t mesh) {

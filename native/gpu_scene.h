@@ -56,6 +56,14 @@ class GpuScene {
   const vk::Buffer& indices() const { return indices_; }
   // Per-vertex normals, (0,0,0) where a mesh has none (flat shading).
   const vk::Buffer& normals() const { return normals_; }
+  // Per-vertex UVs ((0,0) where a mesh has none), and per triangle its material slot.
+  const vk::Buffer& uvs() const { return uvs_; }
+  const vk::Buffer& triangle_materials() const { return triangle_materials_; }
+  // Every instance's material slots (gpu::GpuMaterial), and their images' texels.
+  const vk::Buffer& materials() const { return materials_; }
+  const vk::Buffer& texels() const { return texels_; }
+  // An instance's slots in materials(): (first, count); count 0: its base colour everywhere.
+  glm::uvec2 material_range(uint32_t instance) const { return material_ranges_.at(instance); }
   const std::vector<GpuMeshRange>& meshes() const { return meshes_; }
   const std::vector<Instance>& instances() const { return scene_.instances; }
   const Scene& scene() const { return scene_; }
@@ -102,6 +110,7 @@ class GpuScene {
 
  private:
   void upload_raster();
+  void upload_materials();
   void build_bottom_level(uint32_t mesh);
   void upload_bottom_levels();
   void build_top_level();
@@ -125,6 +134,11 @@ class GpuScene {
   vk::Buffer positions_;
   vk::Buffer indices_;
   vk::Buffer normals_;
+  vk::Buffer uvs_;
+  vk::Buffer triangle_materials_;
+  vk::Buffer materials_;
+  vk::Buffer texels_;
+  std::vector<glm::uvec2> material_ranges_;
   std::vector<GpuMeshRange> meshes_;
   bool has_ray_structures_ = false;
   std::vector<Bvh> mesh_bvhs_;

@@ -31,8 +31,9 @@ bool has_volume_to_fit(const Bounds& bounds) {
 
 }  // namespace
 
-ObjectFields::ObjectFields(const vk::Context& context)
+ObjectFields::ObjectFields(const vk::Context& context, std::shared_ptr<FieldCache> cache)
     : context_(context),
+      cache_(std::move(cache)),
       coarse_passes_(std::make_shared<CoarsePasses>(context)),
       fine_pass_(std::make_shared<const FineTracePass>(context)),
       pack_pass_(std::make_shared<const FieldPackPass>(context)) {}
@@ -58,7 +59,8 @@ void ObjectFields::rebuild(GpuScene& scene, Field& field, const Bounds& bounds, 
                          coarse_grid.voxel_size == field.coarse_grid.voxel_size && coarse_grid.dims == field.coarse_grid.dims;
   if (!field.coarse) field.coarse = std::make_unique<CoarseSdf>(context_, coarse_passes_);
   if (!field.fine) field.fine = std::make_unique<FineSdf>(context_, fine_pass_);
-  if (!field.packed) field.packed = std::make_unique<PackedField>(context_, pack_pass_);
+  if (!field.packed || field.borrowed) field.packed = std::make_shared<PackedField>(context_, pack_pass_);
+  field.borrowed = false;
   field.deforms = field.deforms || deformed;
   field.coarse_grid = coarse_grid;
   field.fine_grid = FineSdf::fit(coarse_grid, fine_resolution);
@@ -72,6 +74,28 @@ void ObjectFields::rebuild(GpuScene& scene, Field& field, const Bounds& bounds, 
   field.version = scene.mesh_version(field.mesh);
   field.updates = 0;
   stats_.regenerated++;
+}
+
+bool ObjectFields::reuse(GpuScene& scene, Field& field, const FieldKey& key) {
+  if (!cache_ || (settings_.keep_history && field.deforms)) return false;
+  const std::optional<CachedField> cached = cache_->find(key);
+  if (!cached) return false;
+  // (empty SDFs: a later deformation rebuilds them)
+  if (!field.coarse) field.coarse = std::make_unique<CoarseSdf>(context_, coarse_passes_);
+  if (!field.fine) field.fine = std::make_unique<FineSdf>(context_, fine_pass_);
+  field.coarse->release();
+  field.fine->release();
+  field.packed = cached->packed;
+  field.borrowed = true;
+  field.coarse_grid = cached->coarse_grid;
+  field.fine_grid = cached->fine_grid;
+  field.coarse_resolution = key.coarse_resolution;
+  field.fine_resolution = key.fine_resolution;
+  field.beta = key.beta;
+  field.version = scene.mesh_version(field.mesh);
+  field.updates = key.updates;
+  stats_.reused++;
+  return true;
 }
 
 void ObjectFields::sync(GpuScene& scene, const ObjectFieldSettings& settings, MarchFields& march) {
@@ -128,10 +152,13 @@ void ObjectFields::sync(GpuScene& scene, const ObjectFieldSettings& settings, Ma
     Field field;
     if (old != fields_.end()) field = std::move(*old);
     field.mesh = meshes[k];
-    const bool stale = !field.coarse || field.version != scene.mesh_version(field.mesh) ||
-                       field.coarse_resolution != coarse_resolution || field.fine_resolution != fine_resolution ||
-                       field.beta != settings.beta;
-    if (stale) rebuild(scene, field, bounds[k], coarse_resolution, fine_resolution);
+    // (the geometry's digest only when needed: it reads every vertex)
+    FieldKey key{field.key.geometry, coarse_resolution, fine_resolution, settings.beta, settings.fine, update_limit()};
+    if (!field.coarse || field.version != scene.mesh_version(field.mesh) || !(key == field.key)) {
+      key.geometry = geometry_digest(scene.scene().meshes[field.mesh]);
+      if (!reuse(scene, field, key)) rebuild(scene, field, bounds[k], coarse_resolution, fine_resolution);
+      field.key = key;
+    }
     fields.push_back(std::move(field));
   }
   fields_ = std::move(fields);
@@ -140,6 +167,7 @@ void ObjectFields::sync(GpuScene& scene, const ObjectFieldSettings& settings, Ma
   // around its mesh: a deforming mesh's room holds only far values.
   for (size_t k = 0; k < fields_.size(); ++k) {
     const Field& f = fields_[k];
+    if (f.borrowed) continue;  // (laid out so by the renderer that refined it)
     const int coarse_longest = std::max(f.coarse_grid.dims.x, std::max(f.coarse_grid.dims.y, f.coarse_grid.dims.z));
     const float room = float(margin_voxels(coarse_longest)) * f.coarse_grid.voxel_size / f.fine_grid.voxel_size;
     f.packed->set_layout(f.fine_grid, f.coarse_grid, bounds[k], room);
@@ -213,11 +241,17 @@ void ObjectFields::refine(GpuScene& scene, MarchFields& march) {
   update_memory_stats();
   // A refined field needs its SDFs no more, unless the mesh deforms and the
   // next rebuild is to keep their history.
-  for (Field* f : updated)
-    if (!due(*f) && !(settings_.keep_history && f->deforms)) {
+  for (Field* f : updated) {
+    if (due(*f)) continue;
+    if (!(settings_.keep_history && f->deforms)) {
       f->coarse->release();
       f->fine->release();
     }
+    if (cache_ && !f->deforms) {
+      cache_->insert(f->key, {f->packed, f->coarse_grid, f->fine_grid});
+      f->borrowed = true;
+    }
+  }
   const bool moved = std::any_of(fields_.begin(), fields_.end(),
                                  [](const Field& f) { return f.placed_generation != f.packed->generation(); });
   if (moved) {

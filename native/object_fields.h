@@ -14,11 +14,15 @@
 //   surfaces, the coarse SDF elsewhere. Once a field is refined its coarse
 //   and fine SDFs are freed, unless the mesh deforms and its history is kept.
 // - Each mesh's voxels come from its own size, under a memory budget.
+// - A refined field of a mesh that does not deform goes into the device's
+//   FieldCache (when given), and a later renderer's mesh of the same
+//   geometry and settings takes it instead of building its own.
 #include <cstdint>
 #include <memory>
 #include <vector>
 
 #include "coarse_sdf.h"
+#include "field_cache.h"
 #include "fine_sdf.h"
 #include "march_fields.h"
 
@@ -56,6 +60,7 @@ struct ObjectFieldStats {
   int fields = 0;               // meshes with a field
   int placed = 0;               // instances placed (sharing those fields)
   int regenerated = 0;          // fields (re)built by the last sync
+  int reused = 0;               // fields the last sync took refined from the FieldCache
   int refined = 0;              // fields updated by the last refine
   uint64_t traced_texels = 0;   // texels traced by the last refine
   size_t bytes = 0;             // device memory of the fields now: packed, and the SDFs of those not freed
@@ -70,7 +75,8 @@ struct ObjectFieldStats {
 
 class ObjectFields {
  public:
-  explicit ObjectFields(const vk::Context& context);
+  // `cache` (may be null) is shared with the device's other renderers.
+  explicit ObjectFields(const vk::Context& context, std::shared_ptr<FieldCache> cache = nullptr);
 
   // Brings the fields up to date with the scene's shadow casters and places
   // every caster instance in `march`: a mesh new to the fields, changed in
@@ -101,7 +107,9 @@ class ObjectFields {
     GridSpec coarse_grid, fine_grid;
     std::unique_ptr<CoarseSdf> coarse;
     std::unique_ptr<FineSdf> fine;
-    std::unique_ptr<PackedField> packed;
+    std::shared_ptr<PackedField> packed;
+    FieldKey key;                 // what it was built from
+    bool borrowed = false;        // `packed` is in the FieldCache: read it, never pack or lay it out
     int updates = 0;              // since the last (re)build
     bool unpacked = false;        // updated since its last packing
     bool deforms = false;         // rebuilt for a deformation since it was made
@@ -110,11 +118,14 @@ class ObjectFields {
   int update_limit() const;
   bool due(const Field& field) const { return field.updates < update_limit(); }
   void rebuild(GpuScene& scene, Field& field, const Bounds& bounds, int coarse_resolution, int fine_resolution);
+  // Takes a refined field of the same geometry and settings from the cache, if it holds one.
+  bool reuse(GpuScene& scene, Field& field, const FieldKey& key);
   // Packs the fields for the march, with more room for those that need it.
   void pack(const std::vector<Field*>& fields);
   void update_memory_stats();
 
   const vk::Context& context_;
+  std::shared_ptr<FieldCache> cache_;
   std::shared_ptr<CoarsePasses> coarse_passes_;
   std::shared_ptr<const FineTracePass> fine_pass_;
   std::shared_ptr<const FieldPackPass> pack_pass_;

@@ -157,14 +157,14 @@ const char* shadow_method_name(ShadowMethod method) { return name_of(kMethodName
 FieldView parse_field_view(const std::string& name) { return parse_name(kFieldViewNames, name, "field view"); }
 const char* field_view_name(FieldView view) { return name_of(kFieldViewNames, view); }
 
-Renderer::Renderer(const vk::Context& context)
+Renderer::Renderer(const vk::Context& context, std::shared_ptr<FieldCache> field_cache)
     : context_(context),
       coarse_(context),
       fine_(context),
       gbuffer_(context),
       shade_(context),
       temporal_(context),
-      object_fields_(context),
+      object_fields_(context, std::move(field_cache)),
       world_field_(context),
       shading_timer_(context, 4),
       march_(context) {}
@@ -269,6 +269,7 @@ void Renderer::rebuild_sdfs(GpuScene& scene, const RenderSettings& settings) {
     stats_.fields = objects.fields;
     stats_.field_instances = objects.placed;
     stats_.fields_regenerated = objects.regenerated;
+    stats_.fields_reused = objects.reused;
     update_field_memory_stats(method);
     stats_.resolution_scale = objects.resolution_scale;
     stats_.skipped_degenerate = objects.skipped_degenerate;
@@ -322,7 +323,7 @@ void Renderer::begin(GpuScene& scene, const Camera& camera, const std::vector<Li
       frame_ == 0)
     rebuild_sdfs(scene, settings);  // (otherwise the SDFs, independent of the view, stay as they are)
   else
-    stats_.fields_regenerated = 0, stats_.traced_texels = stats_.last_frame_traced_texels = 0;
+    stats_.fields_regenerated = stats_.fields_reused = 0, stats_.traced_texels = stats_.last_frame_traced_texels = 0;
   // History shows what these settings draw: another method or field view draws something else.
   const bool same_look = settings.shadow_method == settings_.shadow_method && settings.field_view == settings_.field_view &&
                          settings.field_view_height == settings_.field_view_height;

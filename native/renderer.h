@@ -132,6 +132,7 @@ struct RenderStats {
   int fields = 0;               // distance fields held (rtsdf: one per mesh that casts shadows)
   int field_instances = 0;      // placed in the scene (rtsdf: instances share their mesh's field)
   int fields_regenerated = 0;   // fields (re)built by begin(): voxelized and jump flooded
+  int fields_reused = 0;        // rtsdf: fields begin() took refined from another render (FieldCache)
   uint64_t traced_texels = 0;   // fine texels ray traced since begin()
   uint64_t last_frame_traced_texels = 0;
   double field_mb = 0.0;        // device memory of the fields now (packed, and SDFs still kept for updates)
@@ -180,7 +181,8 @@ float pixel_filter_offset(float u, float width);
 
 class Renderer {
  public:
-  explicit Renderer(const vk::Context& context);
+  // `field_cache` (may be null): refined fields shared with the device's other renderers (field_cache.h).
+  explicit Renderer(const vk::Context& context, std::shared_ptr<FieldCache> field_cache = nullptr);
   // Called after each accumulation frame with (frames done, frames in all);
   // returning false stops the render there (the output holds what was done).
   using Progress = std::function<bool(int, int)>;

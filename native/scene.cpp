@@ -25,12 +25,25 @@ void Scene::validate_mesh(const Mesh& mesh) {
     if (index >= mesh.positions.size()) throw Error(label + " has a triangle index past its vertex count");
   if (!mesh.normals.empty() && mesh.normals.size() != mesh.positions.size())
     throw Error(label + " has a normal count different from its vertex count");
+  if (!mesh.materials.empty() && mesh.materials.size() != mesh.triangle_count())
+    throw Error(label + " has a material index count different from its triangle count");
+  if (!mesh.uvs.empty() && mesh.uvs.size() != mesh.positions.size())
+    throw Error(label + " has a UV count different from its vertex count");
+  for (const glm::vec2& uv : mesh.uvs)
+    if (!std::isfinite(uv.x) || !std::isfinite(uv.y)) throw Error(label + " has NaN or infinite UVs");
 }
 
 void Scene::validate() const {
   for (const Mesh& mesh : meshes) validate_mesh(mesh);
+  for (const Texture& texture : textures)
+    if (texture.width < 1 || texture.height < 1 || texture.width > 16384 || texture.height > 16384 ||
+        texture.texels.size() != size_t(texture.width) * size_t(texture.height))
+      throw Error("image '" + texture.name + "' has a size out of range or a texel count that does not match it");
   for (const Instance& instance : instances) {
     if (instance.mesh >= meshes.size()) throw Error("an instance refers to a mesh that does not exist");
+    for (const Material& material : instance.materials)
+      if (material.texture >= int(textures.size()))
+        throw Error("a material of mesh '" + meshes[instance.mesh].name + "' refers to an image that does not exist");
     for (int c = 0; c < 4; ++c)
       for (int r = 0; r < 4; ++r)
         if (!std::isfinite(instance.object_to_world[c][r]))

@@ -14,13 +14,42 @@ struct Mesh {
   std::vector<uint32_t> indices;  // three per triangle
   // Optional per-vertex normals for smooth shading; empty: flat faces.
   std::vector<glm::vec3> normals;
+  // Optional per-triangle material slot (an index into its instances'
+  // `materials`); empty: slot 0 everywhere.
+  std::vector<uint32_t> materials;
+  // Optional per-vertex texture coordinates (Blender's: v up); empty: none.
+  std::vector<glm::vec2> uvs;
   size_t triangle_count() const { return indices.size() / 3; }
+};
+
+// What the G-buffer takes of a material: its base colour, or an image
+// (Scene::textures) sampled by the mesh's UVs.
+struct Material {
+  glm::vec3 base_color{0.8f};  // linear RGB
+  int texture = -1;            // index into Scene::textures; -1: none
+  bool operator==(const Material& other) const { return base_color == other.base_color && texture == other.texture; }
+  bool operator!=(const Material& other) const { return !(*this == other); }
+};
+
+// An image as materials sample it: rows from the bottom (as Blender stores
+// them), texels as RGBA8 with the colour sRGB-encoded (x = R in the low byte).
+struct Texture {
+  std::string name;
+  int width = 0, height = 0;
+  std::vector<uint32_t> texels;
+  bool operator==(const Texture& other) const {
+    return width == other.width && height == other.height && texels == other.texels;
+  }
+  bool operator!=(const Texture& other) const { return !(*this == other); }
 };
 
 struct Instance {
   uint32_t mesh = 0;
   glm::mat4 object_to_world{1.0f};
-  glm::vec3 base_color{0.8f};  // linear RGB of the instance's material
+  glm::vec3 base_color{0.8f};  // linear RGB of the instance's material (where `materials` is empty)
+  // Its material slots, which the mesh's per-triangle `materials` pick from
+  // (clamped to the last); empty: base_color everywhere.
+  std::vector<Material> materials;
   bool casts_shadow = true;    // off: seen and lit, but left out of the SDFs
   bool visible_to_camera = true;  // off: not seen, but still casts shadows (Blender's Ray Visibility > Camera)
   bool holdout = false;           // seen as a hole: transparent black that hides what is behind (Holdout)
@@ -40,13 +69,14 @@ class MeshExtent;  // mesh_extent.h
 struct Scene {
   std::vector<Mesh> meshes;
   std::vector<Instance> instances;
+  std::vector<Texture> textures;  // the materials' images
 
   // Triangles drawn, counting every instance.
   size_t triangle_count() const;
   // Throws rtsdf::Error for anything the pipeline cannot use: no triangles,
   // NaN or infinite coordinates or transforms, indices out of range.
   void validate() const;
-  // The part of validate() about one mesh: coordinates, indices, normals.
+  // The part of validate() about one mesh: coordinates, indices, normals, materials, UVs.
   static void validate_mesh(const Mesh& mesh);
   // The part about the whole: some triangles, and `bounds` (the world's)
   // finite and not flat to a point.

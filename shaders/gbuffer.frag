@@ -4,7 +4,8 @@
 // kHoldoutSurface where a holdout is seen), shading
 // normal (interpolated for smooth meshes, else the triangle's plane, from the
 // screen derivatives of the position: shading turns it to face the camera),
-// base colour with a = the world voxel size of the field holding the surface
+// base colour (the triangle's material slot: its colour, or its image
+// sampled at the UV) with a = the world voxel size of the field holding the surface
 // (0: only a receiver, in no field), and motion: xy = where this surface
 // point was on screen in the last frame, from where it is now (normalized
 // device coordinates, both without the jitter), z = its depth from the last
@@ -18,10 +19,41 @@ layout(location = 1) in vec3 v_smooth_normal;
 layout(location = 2) in vec4 v_steady_clip;
 layout(location = 3) in vec4 v_previous_clip;
 layout(location = 4) in vec3 v_previous_world;
+layout(location = 5) in vec2 v_uv;
+layout(std430, binding = 5) readonly buffer TriangleMaterials { uint triangle_materials[]; };
+layout(std430, binding = 6) readonly buffer Materials { GpuMaterial materials[]; };
+layout(std430, binding = 7) readonly buffer Texels { uint texels[]; };
 layout(location = 0) out vec4 out_position;
 layout(location = 1) out vec4 out_normal;
 layout(location = 2) out vec4 out_albedo;
 layout(location = 3) out vec4 out_motion;
+
+vec3 srgb_to_linear(vec3 c) {
+  return mix(c / 12.92, pow((c + 0.055) / 1.055, vec3(2.4)), greaterThan(c, vec3(0.04045)));
+}
+
+vec3 texel(GpuMaterial m, ivec2 at) {
+  ivec2 size = ivec2(m.width, m.height);
+  at -= size * ivec2(floor(vec2(at) / vec2(size)));  // (the image repeats, as Blender's Image Texture does by default)
+  return srgb_to_linear(unpackUnorm4x8(texels[m.texel_first + uint(at.y) * m.width + uint(at.x)]).rgb);
+}
+
+// Bilinear, with no mipmaps: an image seen much smaller than its texels aliases.
+vec3 sample_image(GpuMaterial m, vec2 uv) {
+  vec2 at = uv * vec2(m.width, m.height) - 0.5;
+  ivec2 corner = ivec2(floor(at));
+  vec2 f = at - vec2(corner);
+  vec3 bottom = mix(texel(m, corner), texel(m, corner + ivec2(1, 0)), f.x);
+  vec3 top = mix(texel(m, corner + ivec2(0, 1)), texel(m, corner + ivec2(1, 1)), f.x);
+  return mix(bottom, top, f.y);
+}
+
+vec3 base_color() {
+  if (pc.material_count == 0u) return pc.base_color.rgb;
+  uint slot = min(triangle_materials[pc.first_triangle + uint(gl_PrimitiveID)], pc.material_count - 1u);
+  GpuMaterial m = materials[pc.first_material + slot];
+  return m.width == 0u ? m.base_color.rgb : sample_image(m, v_uv);
+}
 
 void main() {
   out_position = vec4(v_world, pc.base_color.w);
@@ -29,7 +61,7 @@ void main() {
   vec3 face = cross(dFdx(v_world), dFdy(v_world));
   vec3 face_normal = dot(face, face) > 0.0 ? normalize(face) : vec3(0.0, 0.0, 1.0);
   out_normal = vec4(smooth_length > 1e-6 ? v_smooth_normal / smooth_length : face_normal, 0.0);
-  out_albedo = vec4(pc.base_color.rgb, pc.field_voxel);
+  out_albedo = vec4(base_color(), pc.field_voxel);
   vec2 now = v_steady_clip.xy / v_steady_clip.w;
   vec2 before = v_previous_clip.xy / max(v_previous_clip.w, 1e-20);
   float previous_depth = dot(v_previous_world - frame.previous_camera_position.xyz, frame.previous_camera_forward.xyz);

@@ -9,6 +9,7 @@ layout(std430, binding = 0) readonly buffer Positions { float positions[]; };
 layout(std430, binding = 1) readonly buffer Frame { FrameData frame; };
 layout(std430, binding = 2) readonly buffer Normals { float normals[]; };
 layout(std430, binding = 3) readonly buffer PreviousTransforms { mat4 previous_transforms[]; };
+layout(std430, binding = 4) readonly buffer Uvs { vec2 uvs[]; };
 layout(push_constant) uniform Push { GBufferPush pc; };
 
 layout(location = 0) out vec3 v_world;
@@ -16,6 +17,7 @@ layout(location = 1) out vec3 v_smooth_normal;  // (0,0,0) for flat meshes
 layout(location = 2) out vec4 v_steady_clip;    // this frame's clip position without the jitter
 layout(location = 3) out vec4 v_previous_clip;  // the same point of the mesh in the last frame
 layout(location = 4) out vec3 v_previous_world;
+layout(location = 5) out vec2 v_uv;
 
 void main() {
   uint v = uint(gl_VertexIndex);  // (the mesh's base vertex included)
@@ -33,4 +35,5 @@ void main() {
   v_previous_world = (previous_transforms[pc.instance] * object).xyz;
   v_steady_clip = frame.steady_world_to_clip * vec4(v_world, 1.0);
   v_previous_clip = frame.previous_world_to_clip * vec4(v_previous_world, 1.0);
+  v_uv = uvs[v];
 }

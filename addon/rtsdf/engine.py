@@ -148,13 +148,14 @@ class RTSDFRenderEngine(bpy.types.RenderEngine):
         first = self.signature is None
         stale = None if first else {update.id.original.name for update in depsgraph.updates
                                     if isinstance(update.id, bpy.types.Object) and update.is_updated_geometry}
-        meshes, instances = sync.geometry(depsgraph, self.mesh_cache, stale)
+        meshes, instances, textures = sync.geometry(depsgraph, self.mesh_cache, stale)
         signature = ([m["key"] for m in meshes],
-                     [(i["mesh"], tuple(i["color"]), i["casts_shadow"], i["visible_camera"], i["holdout"])
-                      for i in instances])
+                     [(i["mesh"], tuple((tuple(m["color"]), m.get("texture", -1)) for m in i["materials"]), i["casts_shadow"], i["visible_camera"], i["holdout"])
+                      for i in instances],
+                     [(t["name"], t["pixels"].shape) for t in textures])
         matrices = [i["matrix"] for i in instances]
         if first or signature != self.signature:
-            self.viewport.sync({"meshes": meshes, "instances": instances})
+            self.viewport.sync({"meshes": meshes, "instances": instances, "textures": textures})
         else:
             # In place, whatever changed: a deformed quad may split along its
             # other diagonal, and smooth normals follow the deformation.

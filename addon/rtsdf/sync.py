@@ -14,8 +14,11 @@ class SceneError(Exception):
     """A scene RTSDF cannot render; the message is for the user."""
 
 
-def mesh_arrays(obj):
-    """Triangles of an evaluated object (modifiers applied), or None if it has none."""
+def mesh_arrays(obj, with_uvs=False):
+    """Triangles of an evaluated object (modifiers applied), with each
+    triangle's material slot, or None if it has none. with_uvs: also the
+    active UV map's coordinates per vertex (a vertex on a seam becomes one
+    per UV), where the mesh has one."""
     mesh = obj.to_mesh()
     try:
         if mesh is None:
@@ -32,14 +35,28 @@ def mesh_arrays(obj):
         if not np.isfinite(positions).all():
             raise SceneError(f"Object '{obj.name}' has NaN or infinite vertex coordinates")
         arrays = {"name": obj.name, "positions": positions, "indices": indices.reshape(-1, 3).astype(np.uint32)}
+        if len(mesh.materials) > 1:
+            slots = np.empty(triangles, dtype=np.int32)
+            mesh.loop_triangles.foreach_get("material_index", slots)
+            arrays["materials"] = slots.astype(np.uint32)
+        # Per-corner attributes split the vertices they differ at.
+        corners = {}
         shading = normals_domain(mesh)
         if shading == "POINT":
             normals = np.empty(len(mesh.vertices) * 3, dtype=np.float32)
             mesh.vertices.foreach_get("normal", normals)
             arrays["normals"] = normals.reshape(-1, 3)
-        elif shading == "CORNER":
-            split_at_sharp_corners(mesh, arrays)
-        return arrays  # (FACE: no normals, the G-buffer shades each face flat)
+        elif shading == "CORNER":  # (FACE: no normals, the G-buffer shades each face flat)
+            corners["normals"] = corner_normals(mesh)
+        if with_uvs and mesh.uv_layers.active is not None:
+            uvs = np.empty(len(mesh.loops) * 2, dtype=np.float32)
+            mesh.uv_layers.active.data.foreach_get("uv", uvs)
+            corners["uvs"] = uvs.reshape(-1, 2)[triangle_loops(mesh)]
+        if corners:
+            if "normals" in arrays:  # (smooth everywhere: per vertex, but split with the UVs)
+                corners["normals"] = arrays["normals"][arrays["indices"].reshape(-1)]
+            split_by_corners(arrays, corners)
+        return arrays
     finally:
         obj.to_mesh_clear()
 
@@ -58,39 +75,112 @@ def normals_domain(mesh):
     return "POINT" if smooth.all() else "FACE" if not smooth.any() else "CORNER"
 
 
-def split_at_sharp_corners(mesh, arrays):
-    """Per-corner shading normals: a vertex whose corners shade differently
-    (along a sharp edge, between a smooth and a flat face) becomes one vertex
-    per normal. (The fields weld vertices by position, so they see the same surface.)"""
+def triangle_loops(mesh):
+    """The face corner (loop) of each loop triangle's corners, in triangle order."""
+    loops = np.empty(len(mesh.loop_triangles) * 3, dtype=np.int32)
+    mesh.loop_triangles.foreach_get("loops", loops)
+    return loops
+
+
+def corner_normals(mesh):
+    """Shading normals per loop triangle corner (sharp edges, flat faces and custom normals as Blender shades them)."""
     corners = np.empty(len(mesh.loops) * 3, dtype=np.float32)
     if hasattr(mesh, "corner_normals"):  # Blender 4.1+
         mesh.corner_normals.foreach_get("vector", corners)
     else:
         mesh.calc_normals_split()
         mesh.loops.foreach_get("normal", corners)
-    loops = np.empty(len(mesh.loop_triangles) * 3, dtype=np.int32)
-    mesh.loop_triangles.foreach_get("loops", loops)
-    normals = corners.reshape(-1, 3)[loops]
+    return corners.reshape(-1, 3)[triangle_loops(mesh)]
+
+
+def split_by_corners(arrays, corners):
+    """Per-corner attributes (name -> values per triangle corner): a vertex
+    whose corners differ in any (a sharp edge, a flat face beside a smooth
+    one, a UV seam) becomes one vertex per combination, and each attribute a
+    per-vertex array. (The fields weld vertices by position, so they see the
+    same surface.)"""
     vertices = arrays["indices"].reshape(-1).astype(np.int64)
-    keys = np.column_stack([vertices, np.round(normals * 32767.0).astype(np.int64)])
+    keys = np.column_stack([vertices] + [np.round(values * 32767.0).astype(np.int64) for values in corners.values()])
     unique, first, inverse = np.unique(keys, axis=0, return_index=True, return_inverse=True)
     arrays["positions"] = np.ascontiguousarray(arrays["positions"][unique[:, 0]])
-    arrays["normals"] = np.ascontiguousarray(normals[first])
+    for name, values in corners.items():
+        arrays[name] = np.ascontiguousarray(values[first])
     arrays["indices"] = inverse.reshape(-1, 3).astype(np.uint32)
 
 
-def base_color(obj):
-    """Linear base colour of the object's first material (Principled BSDF or viewport colour)."""
-    material = obj.active_material
+DEFAULT_COLOR = (0.8, 0.8, 0.8)  # (Blender's for a surface without a material)
+
+
+def surface_shader(material):
+    """The shader node a material's surface comes from: the one linked to its
+    active Material Output (for Cycles or all engines); through Mix and Add
+    Shader nodes, their first linked shader. None if there is none."""
+    nodes = material.node_tree.nodes
+    outputs = [n for n in nodes if n.type == "OUTPUT_MATERIAL" and n.target in ("ALL", "CYCLES")]
+    outputs.sort(key=lambda n: not n.is_active_output)
+    if not outputs or not outputs[0].inputs["Surface"].is_linked:
+        return None
+    node = outputs[0].inputs["Surface"].links[0].from_node
+    while node.type in ("MIX_SHADER", "ADD_SHADER"):
+        linked = [s for s in node.inputs if s.type == "SHADER" and s.is_linked]
+        if not linked:
+            return None
+        node = linked[0].links[0].from_node
+    return node
+
+
+def material_color(material):
+    """(linear RGB, image or None): a material's base colour as RTSDF shades
+    it, followed from its Material Output to its BSDF's Base Color (or
+    Color): an Image Texture linked there, else the colour set there. Other
+    nodes on the way to the colour, and everything else the BSDF does
+    (roughness, metal, normal maps, transparency), are left out."""
     if material is None:
-        return (0.8, 0.8, 0.8)
-    if material.use_nodes and material.node_tree:
-        for node in material.node_tree.nodes:
-            if node.type == "BSDF_PRINCIPLED":
-                return tuple(node.inputs["Base Color"].default_value[:3])
-            if node.type == "BSDF_DIFFUSE":
-                return tuple(node.inputs["Color"].default_value[:3])
-    return tuple(material.diffuse_color[:3])
+        return DEFAULT_COLOR, None
+    if not (material.use_nodes and material.node_tree):
+        return tuple(material.diffuse_color[:3]), None
+    shader = surface_shader(material)
+    if shader is None:  # (no output linked: the first BSDF, as the viewport shows it)
+        shader = next((n for n in material.node_tree.nodes if n.type in ("BSDF_PRINCIPLED", "BSDF_DIFFUSE")), None)
+    socket = None if shader is None else shader.inputs.get("Base Color") or shader.inputs.get("Color")
+    if socket is None or socket.type != "RGBA":
+        return tuple(material.diffuse_color[:3]), None
+    color = tuple(socket.default_value[:3])
+    if socket.is_linked:
+        source = socket.links[0].from_node
+        if source.type == "TEX_IMAGE" and source.image is not None and source.image.size[0] > 0:
+            return color, source.image
+    return color, None
+
+
+def slot_materials(obj):
+    """The object's material slots' materials (None for an empty slot); one None for an object with none."""
+    return [slot.material for slot in obj.material_slots] or [None]
+
+
+# Images already read: (name, size, path, colour space, float) -> texels.
+_image_texels = {}
+MAX_IMAGE_SIZE = 2048
+
+
+def image_texels(image):
+    """(H, W, 4) uint8 texels of an image, rows from the bottom, the colour
+    sRGB-encoded as the native G-buffer decodes it. Images larger than
+    MAX_IMAGE_SIZE a side are taken at every n-th texel."""
+    key = (image.name, tuple(image.size), image.filepath, image.colorspace_settings.name, image.is_float)
+    if key not in _image_texels:
+        width, height = image.size
+        pixels = np.empty(width * height * 4, dtype=np.float32)
+        image.pixels.foreach_get(pixels)
+        pixels = pixels.reshape(height, width, 4)
+        step = max(1, -(-max(width, height) // MAX_IMAGE_SIZE))
+        pixels = pixels[::step, ::step]
+        # A byte image in sRGB holds sRGB-encoded values already; any other holds linear ones.
+        if image.is_float or image.colorspace_settings.name != "sRGB":
+            rgb = np.clip(pixels[..., :3], 0.0, 1.0)
+            pixels[..., :3] = np.where(rgb <= 0.0031308, rgb * 12.92, 1.055 * rgb ** (1 / 2.4) - 0.055)
+        _image_texels[key] = np.ascontiguousarray(np.round(np.clip(pixels, 0.0, 1.0) * 255.0).astype(np.uint8))
+    return _image_texels[key]
 
 
 def shadow_toggle(light):
@@ -265,13 +355,24 @@ def is_holdout(obj, held_collections):
 
 
 def geometry(depsgraph, cache=None, stale=None):
-    """(meshes, instances) as the native module takes them. With `cache` (a
-    dict kept by the caller, mesh key -> arrays), a mesh whose owner (see
-    geometry_key) is not in `stale` (a set of object names; None: all stale)
-    is taken from the cache instead of being read again. Each mesh dict
-    carries its "key" and "owner"."""
+    """(meshes, instances, textures) as the native module takes them. With
+    `cache` (a dict kept by the caller, mesh key -> arrays), a mesh whose
+    owner (see geometry_key) is not in `stale` (a set of object names; None:
+    all stale) is taken from the cache instead of being read again. Each mesh
+    dict carries its "key" and "owner"; each instance its material slots
+    ("materials": colour, and the index of its image in `textures`)."""
     meshes, instances, mesh_index = [], [], {}
+    textures, texture_index = [], {}
     held = holdout_collections(depsgraph.view_layer)
+
+    def slot(material):
+        color, image = material_color(material)
+        if image is None:
+            return {"color": color}
+        if image.name not in texture_index:
+            texture_index[image.name] = len(textures)
+            textures.append({"name": image.name, "pixels": image_texels(image)})
+        return {"color": color, "texture": texture_index[image.name]}
     for instance in depsgraph.object_instances:
         obj = instance.object
         if obj.type not in GEOMETRY_TYPES:
@@ -280,11 +381,14 @@ def geometry(depsgraph, cache=None, stale=None):
             continue  # (an instancer shown through its instances only, e.g. a particle emitter)
         # Instances of one mesh share its triangles; only their transforms differ.
         key, owner = geometry_key(instance)
+        materials = [slot(m) for m in slot_materials(obj)]
+        textured = any("texture" in m for m in materials)
         if key not in mesh_index:
-            if cache is not None and key in cache and stale is not None and owner not in stale:
-                arrays = cache[key]
+            cached = cache.get(key) if cache is not None else None
+            if cached is not None and stale is not None and owner not in stale and (not textured or "uvs" in cached):
+                arrays = cached
             else:
-                arrays = mesh_arrays(obj)
+                arrays = mesh_arrays(obj, with_uvs=textured)
                 if arrays is not None:
                     arrays["key"], arrays["owner"] = key, owner
                 if cache is not None:
@@ -295,7 +399,7 @@ def geometry(depsgraph, cache=None, stale=None):
         if mesh_index[key] is None:
             continue
         instances.append({"mesh": mesh_index[key], "matrix": np.array(instance.matrix_world, dtype=np.float32),
-                          "color": base_color(obj),
+                          "color": materials[0]["color"], "materials": materials,
                           # Object Properties > Visibility > Ray Visibility > Shadow, > Camera
                           "casts_shadow": bool(getattr(obj, "visible_shadow", True)),
                           "visible_camera": bool(getattr(obj, "visible_camera", True)),
@@ -305,7 +409,7 @@ def geometry(depsgraph, cache=None, stale=None):
             del cache[gone]
     if not instances:
         raise SceneError("Nothing to render: the scene has no objects with faces")
-    return meshes, instances
+    return meshes, instances, textures
 
 
 def lights(depsgraph):
@@ -322,7 +426,7 @@ def extract(depsgraph):
         raise SceneError("Panoramic cameras are not supported: RTSDF renders perspective and orthographic cameras")
     width, height = render_size(scene)
     region = render_region(scene, width, height)
-    meshes, instances = geometry(depsgraph)
+    meshes, instances, textures = geometry(depsgraph)
     camera = camera_data(depsgraph, scene.camera.evaluated_get(depsgraph), width, height)
     camera["projection"] = region_projection(camera["projection"], width, height, region)
     warnings = []
@@ -331,6 +435,7 @@ def extract(depsgraph):
         "warnings": warnings,
         "meshes": meshes,
         "instances": instances,
+        "textures": textures,
         "lights": lights(depsgraph),
         "camera": camera,
         "width": region[2],

@@ -16,8 +16,7 @@ constexpr VkFormat kDepth = VK_FORMAT_D32_SFLOAT;
 GBufferPass::GBufferPass(const vk::Context& context)
     : context_(context),
       pipeline_(context, RTSDF_SPIRV(spirv_gbuffer_vert), RTSDF_SPIRV(spirv_gbuffer_frag),
-                {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
-                 VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
+                std::vector<VkDescriptorType>(8, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER),
                 sizeof(gpu::GBufferPush), vk::RenderTargets{{kColor, kColor, kColor, kColor}, kDepth}) {}
 
 void GBufferPass::resize(int width, int height) {
@@ -55,7 +54,10 @@ void GBufferPass::record(VkCommandBuffer cmd, const GpuScene& scene, const vk::B
   pipeline_.bind(cmd);
   pipeline_.push_descriptors(cmd, {vk::Resource::storage_buffer(scene.positions()), vk::Resource::storage_buffer(frame),
                                    vk::Resource::storage_buffer(scene.normals()),
-                                   vk::Resource::storage_buffer(previous_transforms)});
+                                   vk::Resource::storage_buffer(previous_transforms), vk::Resource::storage_buffer(scene.uvs()),
+                                   vk::Resource::storage_buffer(scene.triangle_materials()),
+                                   vk::Resource::storage_buffer(scene.materials()),
+                                   vk::Resource::storage_buffer(scene.texels())});
   vkCmdBindIndexBuffer(cmd, scene.indices().handle(), 0, VK_INDEX_TYPE_UINT32);
   for (size_t i = 0; i < scene.instances().size(); ++i) {
     const Instance& instance = scene.instances()[i];
@@ -66,6 +68,10 @@ void GBufferPass::record(VkCommandBuffer cmd, const GpuScene& scene, const vk::B
     push.base_color = glm::vec4(instance.base_color, instance.holdout ? gpu::kHoldoutSurface : gpu::kShadedSurface);
     push.field_voxel = field_voxels[i];
     push.instance = uint32_t(i);
+    push.first_triangle = mesh.first_index / 3;
+    const glm::uvec2 slots = scene.material_range(uint32_t(i));
+    push.first_material = slots.x;
+    push.material_count = slots.y;
     pipeline_.push_constants(cmd, push);
     vkCmdDrawIndexed(cmd, 3 * mesh.triangle_count, 1, mesh.first_index, int32_t(mesh.base_vertex), 0);
   }

@@ -4,11 +4,13 @@
 #include <pybind11/stl.h>
 
 #include <array>
+#include <cstring>
 #include <chrono>
 #include <memory>
 
 #include "coarse_sdf.h"
 #include "exr_output.h"
+#include "field_cache.h"
 #include "renderer.h"
 #include "version.h"
 #include "vk/context.h"
@@ -99,7 +101,8 @@ rtsdf::LightType light_type(const std::string& name) {
   throw rtsdf::Error("unknown light type '" + name + "'");
 }
 
-// A mesh as sync's "meshes" entries give it: positions, indices, optional name and normals.
+// A mesh as sync's "meshes" entries give it: positions, indices, optional name, normals, per-triangle
+// material slots ("materials") and UVs.
 rtsdf::Mesh mesh_of(const py::dict& d) {
   rtsdf::Mesh mesh = mesh_from_arrays(
       d["positions"].cast<py::array_t<float, py::array::c_style | py::array::forcecast>>(),
@@ -111,7 +114,29 @@ rtsdf::Mesh mesh_of(const py::dict& d) {
     for (py::ssize_t i = 0; i < normals.shape(0); ++i)
       mesh.normals.emplace_back(normals.at(i, 0), normals.at(i, 1), normals.at(i, 2));
   }
+  if (d.contains("materials")) {
+    auto slots = d["materials"].cast<py::array_t<uint32_t, py::array::c_style | py::array::forcecast>>();
+    mesh.materials.assign(slots.data(), slots.data() + slots.size());
+  }
+  if (d.contains("uvs")) {
+    auto uvs = d["uvs"].cast<py::array_t<float, py::array::c_style | py::array::forcecast>>();
+    if (uvs.ndim() != 2 || uvs.shape(1) != 2) throw rtsdf::Error("uvs must have shape (N, 2)");
+    for (py::ssize_t i = 0; i < uvs.shape(0); ++i) mesh.uvs.emplace_back(uvs.at(i, 0), uvs.at(i, 1));
+  }
   return mesh;
+}
+
+// An image as sync's "textures" entries give it: name, and pixels (H, W, 4) uint8, rows from the bottom, sRGB-encoded.
+rtsdf::Texture texture_of(const py::dict& d) {
+  rtsdf::Texture texture;
+  texture.name = get<std::string>(d, "name", "image");
+  auto pixels = d["pixels"].cast<py::array_t<uint8_t, py::array::c_style | py::array::forcecast>>();
+  if (pixels.ndim() != 3 || pixels.shape(2) != 4) throw rtsdf::Error("image '" + texture.name + "' must have shape (H, W, 4)");
+  texture.height = int(pixels.shape(0));
+  texture.width = int(pixels.shape(1));
+  texture.texels.resize(size_t(pixels.shape(0)) * size_t(pixels.shape(1)));
+  std::memcpy(texture.texels.data(), pixels.data(), texture.texels.size() * sizeof(uint32_t));  // (RGBA bytes: R lowest)
+  return texture;
 }
 
 rtsdf::Scene scene_of(const py::dict& scene_desc) {
@@ -124,11 +149,18 @@ rtsdf::Scene scene_of(const py::dict& scene_desc) {
     instance.mesh = d["mesh"].cast<uint32_t>();
     instance.object_to_world = mat4_of(d["matrix"]);
     if (d.contains("color")) instance.base_color = vec3_of(d["color"]);
+    if (d.contains("materials"))
+      for (const py::handle& slot : d["materials"].cast<py::list>()) {
+        py::dict m = slot.cast<py::dict>();
+        instance.materials.push_back({vec3_of(m["color"]), get<int>(m, "texture", -1)});
+      }
     instance.casts_shadow = get<bool>(d, "casts_shadow", true);
     instance.visible_to_camera = get<bool>(d, "visible_camera", true);
     instance.holdout = get<bool>(d, "holdout", false);
     scene.instances.push_back(instance);
   }
+  if (scene_desc.contains("textures"))
+    for (const py::handle& texture : scene_desc["textures"].cast<py::list>()) scene.textures.push_back(texture_of(texture.cast<py::dict>()));
   return scene;
 }
 
@@ -205,6 +237,7 @@ py::dict stats_of(const rtsdf::RenderStats& s) {
   stats["fields"] = s.fields;
   stats["field_instances"] = s.field_instances;
   stats["fields_regenerated"] = s.fields_regenerated;
+  stats["fields_reused"] = s.fields_reused;
   stats["traced_texels"] = s.traced_texels;
   stats["last_frame_traced_texels"] = s.last_frame_traced_texels;
   stats["field_mb"] = s.field_mb;
@@ -233,7 +266,8 @@ py::array_t<float> image_of(const std::vector<float>& values, int height, int wi
 // incrementally, accumulating progressively.
 class Viewport {
  public:
-  explicit Viewport(std::shared_ptr<rtsdf::vk::Context> context) : context_(std::move(context)), renderer_(*context_) {}
+  Viewport(std::shared_ptr<rtsdf::vk::Context> context, std::shared_ptr<rtsdf::FieldCache> field_cache)
+      : context_(std::move(context)), field_cache_(std::move(field_cache)), renderer_(*context_, field_cache_) {}
 
   // the whole scene (meshes and instances), after a change in what
   // exists. Later changes come through set_transforms and set_mesh.
@@ -355,6 +389,7 @@ class Viewport {
   }
 
   std::shared_ptr<rtsdf::vk::Context> context_;  // (declared first: destroyed last)
+  std::shared_ptr<rtsdf::FieldCache> field_cache_;  // the session's
   rtsdf::Renderer renderer_;
   std::unique_ptr<rtsdf::GpuScene> scene_;
   bool changed_ = true;
@@ -365,9 +400,22 @@ class Viewport {
 // with Blender's persistent data; each viewport gets its own Viewport.
 class Session {
  public:
-  Session() : context_(std::make_shared<rtsdf::vk::Context>()), renderer_(*context_) {}
+  Session()
+      : context_(std::make_shared<rtsdf::vk::Context>()),
+        field_cache_(std::make_shared<rtsdf::FieldCache>(field_cache_capacity(*context_))),
+        renderer_(*context_, field_cache_) {}
 
-  std::unique_ptr<Viewport> viewport() const { return std::make_unique<Viewport>(context_); }
+  std::unique_ptr<Viewport> viewport() const { return std::make_unique<Viewport>(context_, field_cache_); }
+
+  // Drops the refined fields kept for later renders (the next render of each mesh builds its field again).
+  void forget_fields() { field_cache_->clear(); }
+  py::dict kept_fields() const {
+    py::dict out;
+    out["count"] = field_cache_->size();
+    out["mb"] = double(field_cache_->bytes()) / double(1 << 20);
+    out["capacity_mb"] = double(field_cache_->capacity()) / double(1 << 20);
+    return out;
+  }
 
   int validation_messages() const { return context_->validation_message_count(); }
 
@@ -421,6 +469,7 @@ class Session {
         gpu_scene_ = std::make_unique<rtsdf::GpuScene>(*context_, scene);
         meshes_ = scene.meshes;
         instances_ = scene.instances;
+        textures_ = scene.textures;
       }
       out = renderer_.render(*gpu_scene_, camera, lights, ambient, width, height, settings, report);
       if (!persistent) gpu_scene_.reset();
@@ -440,16 +489,21 @@ class Session {
   }
 
  private:
-  // The same mesh shapes (vertices, triangles) and instances of the same
-  // meshes, colours and shadow and visibility flags as the scene on the
-  // device: only transforms and normals may differ.
+  // The same mesh shapes (vertices, triangles, material slots, UVs) and
+  // instances of the same meshes, colours, materials and shadow and
+  // visibility flags, and the same images, as the scene on the device: only
+  // transforms and normals may differ.
   bool same_shapes(const rtsdf::Scene& scene) const {
-    if (scene.meshes.size() != meshes_.size() || scene.instances.size() != instances_.size()) return false;
+    if (scene.meshes.size() != meshes_.size() || scene.instances.size() != instances_.size() ||
+        scene.textures != textures_)
+      return false;
     for (size_t m = 0; m < meshes_.size(); ++m)
-      if (scene.meshes[m].positions != meshes_[m].positions || scene.meshes[m].indices != meshes_[m].indices)
+      if (scene.meshes[m].positions != meshes_[m].positions || scene.meshes[m].indices != meshes_[m].indices ||
+          scene.meshes[m].materials != meshes_[m].materials || scene.meshes[m].uvs != meshes_[m].uvs)
         return false;
     for (size_t i = 0; i < instances_.size(); ++i)
       if (scene.instances[i].mesh != instances_[i].mesh || scene.instances[i].base_color != instances_[i].base_color ||
+          scene.instances[i].materials != instances_[i].materials ||
           scene.instances[i].casts_shadow != instances_[i].casts_shadow ||
           scene.instances[i].visible_to_camera != instances_[i].visible_to_camera ||
           scene.instances[i].holdout != instances_[i].holdout)
@@ -457,11 +511,18 @@ class Session {
     return true;
   }
 
+  // Refined fields kept for the next renders: an eighth of the device's memory, at most 512 MiB.
+  static size_t field_cache_capacity(const rtsdf::vk::Context& context) {
+    return std::min<size_t>(size_t(512) << 20, context.device_local_heap_bytes() / 8);
+  }
+
   std::shared_ptr<rtsdf::vk::Context> context_;
+  std::shared_ptr<rtsdf::FieldCache> field_cache_;  // shared with its viewports
   rtsdf::Renderer renderer_;
   std::unique_ptr<rtsdf::GpuScene> gpu_scene_;  // kept between persistent renders
   std::vector<rtsdf::Mesh> meshes_;
   std::vector<rtsdf::Instance> instances_;
+  std::vector<rtsdf::Texture> textures_;
 };
 
 }  // namespace
@@ -504,6 +565,10 @@ PYBIND11_MODULE(rtsdf_native, m) {
       .def_property_readonly("validation_messages", &Session::validation_messages,
                              "Vulkan validation messages so far on this session's device (RTSDF_VALIDATION=1).")
       .def("viewport", &Session::viewport, "A new viewport (its own scene and accumulation) on this device.")
+      .def("forget_fields", &Session::forget_fields,
+           "Drops the refined fields kept for later renders and viewports (each mesh's next render builds its own).")
+      .def_property_readonly("kept_fields", &Session::kept_fields,
+                             "The refined fields kept for later renders: count, mb and capacity_mb.")
       .def("render", &Session::render, py::arg("scene"), py::arg("settings") = py::dict(),
            py::arg("progress") = py::none(), py::arg("persistent") = false,
            "Renders a scene given as plain data: meshes [{positions (N,3), indices (M,3), normals (N,3) optional}], instances "

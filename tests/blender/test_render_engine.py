@@ -214,6 +214,49 @@ class RenderEngine(unittest.TestCase):
         self.assertLess(box_rmse(mixed), RMSE_TOLERANCE)
         self.assertLess(box_rmse(mixed), 0.8 * box_rmse(flat), "the smooth half shades smooth")
 
+    def test_material_slots_and_an_image_texture_shade_as_in_cycles(self):
+        # The ground cut into 4 x 4 faces that alternate between a red and a blue
+        # slot, and the sphere's Diffuse colour from an Image Texture (Blender's
+        # colour grid) by its UVs, behind a Mix Shader.
+        import bmesh
+        ground, sphere = bpy.data.objects["Ground"], bpy.data.objects["Sphere"]
+        grid = bmesh.new()
+        grid.from_mesh(ground.data)
+        bmesh.ops.subdivide_edges(grid, edges=grid.edges[:], cuts=3, use_grid_fill=True)
+        grid.to_mesh(ground.data)
+        grid.free()
+        ground.data.materials.clear()
+        for name, color in (("Red", (0.8, 0.1, 0.1)), ("Blue", (0.1, 0.2, 0.8))):
+            material = bpy.data.materials["Ground"].copy()
+            material.name = name
+            material.node_tree.nodes["Diffuse BSDF"].inputs["Color"].default_value = (*color, 1.0)
+            ground.data.materials.append(material)
+        for polygon in ground.data.polygons:
+            polygon.material_index = (int(polygon.center.x // 2) + int(polygon.center.y // 2)) % 2
+        image = bpy.data.images.new("grid", 256, 256)
+        image.generated_type = "COLOR_GRID"
+        tree = sphere.active_material.node_tree
+        texture = tree.nodes.new("ShaderNodeTexImage")
+        texture.image = image
+        tree.links.new(texture.outputs["Color"], tree.nodes["Diffuse BSDF"].inputs["Color"])
+        mix = tree.nodes.new("ShaderNodeMixShader")
+        mix.inputs["Fac"].default_value = 0.0
+        tree.links.new(tree.nodes["Diffuse BSDF"].outputs["BSDF"], mix.inputs[1])
+        tree.links.new(mix.outputs["Shader"], tree.nodes["Material Output"].inputs["Surface"])
+
+        _, rtsdf_image = render("RTSDF", self.tmp.name, "materials", samples=4)
+        _, cycles = render("CYCLES", self.tmp.name, "materials_cycles")
+        rmse = float(np.sqrt(np.mean((rtsdf_image[..., :3] - cycles[..., :3]) ** 2)))
+        print(f"material slots and an image texture, RTSDF against Cycles: RMSE {rmse:.4f}")
+        self.assertLess(rmse, RMSE_TOLERANCE)
+        red = (rtsdf_image[..., 0] > 2 * rtsdf_image[..., 2]).mean()
+        blue = (rtsdf_image[..., 2] > 2 * rtsdf_image[..., 0]).mean()
+        self.assertGreater(min(red, blue), 0.1, "both slots of the ground show")
+        # The grid's cells differ in hue: its green ones show on the sphere, in both.
+        green = [int((image[..., 1] > 2 * image[..., 0] + 0.05).sum()) for image in (rtsdf_image, cycles)]
+        print(f"green pixels: RTSDF {green[0]}, Cycles {green[1]}")
+        self.assertGreater(min(green), 50)
+
     def test_an_environment_texture_lights_as_its_mean_and_a_sky_is_reported(self):
         from rtsdf import sync
         scene = bpy.context.scene

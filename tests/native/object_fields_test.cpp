@@ -1,7 +1,8 @@
 // The object-space fields (rtsdf): one field per mesh shared by its
 // instances, rigid motion costs no SDF work, deformation rebuilds only the
 // mesh that changed, non-uniform scale stays conservative, and the memory
-// budget coarsens fields instead of failing.
+// budget coarsens fields instead of failing; refined fields are kept for
+// later renderers of the same device (FieldCache).
 #include <cmath>
 #include <cstdio>
 #include <glm/gtc/matrix_transform.hpp>
@@ -267,6 +268,119 @@ TEST_F(ObjectFieldsTest, FlattenedInstanceIsCountedAndTheRestRenders) {
   const RenderOutput out = quick_render(scene, 3.0f, 64);
   EXPECT_EQ(out.stats.skipped_degenerate, 1);
   EXPECT_EQ(out.stats.field_instances, 1) << "the box still casts its shadow";
+}
+
+// Small fields, and 6 samples: past the fields' 4 updates.
+RenderSettings small_fields() {
+  RenderSettings settings;
+  settings.coarse_resolution = 32;
+  settings.fine_resolution = 48;
+  settings.samples = 6;
+  return settings;
+}
+
+// Renders `scene` as F12 does, with a renderer of its own on `cache`.
+RenderOutput render_with(const std::shared_ptr<FieldCache>& cache, const Scene& scene,
+                         const RenderSettings& settings = small_fields()) {
+  GpuScene gpu_scene(testing::VulkanTest::context(), scene);
+  Renderer renderer(testing::VulkanTest::context(), cache);
+  return renderer.render(gpu_scene, top_view(3.0f), {overhead_sun()}, glm::vec3(0.1f), 48, 48, settings);
+}
+
+double largest_difference(const std::vector<float>& a, const std::vector<float>& b) {
+  double worst = 0.0;
+  for (size_t i = 0; i < a.size(); ++i) worst = std::max(worst, double(std::abs(a[i] - b[i])));
+  return a.size() == b.size() ? worst : 1e9;
+}
+
+TEST_F(ObjectFieldsTest, ANewRendererTakesRefinedFieldsAndTracesNothing) {
+  auto cache = std::make_shared<FieldCache>(size_t(64) << 20);
+  const RenderOutput first = render_with(cache, sphere_box_ground());
+  EXPECT_EQ(first.stats.fields_regenerated, 2);
+  EXPECT_EQ(first.stats.fields_reused, 0);
+  EXPECT_EQ(cache->size(), 2u) << "both refined fields are kept";
+
+  // The next frame of an animation render: the sphere moved, nothing deformed.
+  Scene moved = sphere_box_ground();
+  moved.instances[0].object_to_world = glm::rotate(glm::translate(glm::mat4(1.0f), {-0.5f, -0.7f, 1.1f}), 0.6f, {1, 0, 0});
+  const RenderOutput next = render_with(cache, moved);
+  EXPECT_EQ(next.stats.fields_reused, 2);
+  EXPECT_EQ(next.stats.fields_regenerated, 0);
+  EXPECT_EQ(next.stats.traced_texels, 0u) << "a taken field is traced no further";
+
+  // What a renderer of its own shows once its fields are refined: its second render of the scene.
+  GpuScene gpu_scene(context(), moved);
+  Renderer own(context());
+  own.render(gpu_scene, top_view(3.0f), {overhead_sun()}, glm::vec3(0.1f), 48, 48, small_fields());
+  const RenderOutput refined = own.render(gpu_scene, top_view(3.0f), {overhead_sun()}, glm::vec3(0.1f), 48, 48, small_fields());
+  EXPECT_EQ(refined.stats.fields_regenerated, 0);
+  int shadowed = 0;
+  for (float v : refined.shadow) shadowed += v < 0.5f;
+  EXPECT_GT(shadowed, 30);
+  EXPECT_LT(largest_difference(next.shadow, refined.shadow), 1e-3) << "a taken field is the field it would have built";
+}
+
+TEST_F(ObjectFieldsTest, OtherGeometryOrSettingsBuildTheirOwnField) {
+  auto cache = std::make_shared<FieldCache>(size_t(64) << 20);
+  render_with(cache, sphere_box_ground());
+  RenderSettings fewer_rays = small_fields();
+  fewer_rays.fine.rays_per_texel = 4;
+  const RenderOutput other_settings = render_with(cache, sphere_box_ground(), fewer_rays);
+  EXPECT_EQ(other_settings.stats.fields_reused, 0);
+  EXPECT_EQ(other_settings.stats.fields_regenerated, 2);
+
+  Scene grown = sphere_box_ground();
+  for (glm::vec3& p : grown.meshes[0].positions) p *= 1.1f;
+  const RenderOutput other_sphere = render_with(cache, grown);
+  EXPECT_EQ(other_sphere.stats.fields_reused, 1) << "the box is the same";
+  EXPECT_EQ(other_sphere.stats.fields_regenerated, 1) << "the sphere is another";
+}
+
+TEST_F(ObjectFieldsTest, AKeptFieldIsNeverWrittenByTheRendererThatTookIt) {
+  auto cache = std::make_shared<FieldCache>(size_t(64) << 20);
+  render_with(cache, sphere_box_ground());
+  const RenderOutput taken = render_with(cache, sphere_box_ground());
+  ASSERT_EQ(taken.stats.fields_reused, 2);
+
+  // A viewport (keeping history, with room for deformation) takes the
+  // fields, then the sphere deforms there and its field is rebuilt and refined.
+  Scene scene = sphere_box_ground();
+  GpuScene gpu_scene(context(), scene);
+  Renderer viewport(context(), cache);
+  RenderSettings settings = small_fields();
+  settings.keep_history = true;
+  settings.grid_slack = 0.5f;
+  viewport.begin(gpu_scene, top_view(3.0f), {overhead_sun()}, glm::vec3(0.1f), 48, 48, settings, true);
+  EXPECT_EQ(viewport.stats().fields_reused, 2);
+  std::vector<glm::vec3> squashed = scene.meshes[0].positions;
+  for (glm::vec3& p : squashed) p.z *= 0.5f;
+  gpu_scene.set_mesh_positions(0, squashed);
+  viewport.begin(gpu_scene, top_view(3.0f), {overhead_sun()}, glm::vec3(0.1f), 48, 48, settings, true);
+  EXPECT_EQ(viewport.stats().fields_regenerated, 1);
+  run_until_still(viewport);
+
+  const RenderOutput again = render_with(cache, sphere_box_ground());
+  EXPECT_EQ(again.stats.fields_reused, 2);
+  EXPECT_EQ(largest_difference(again.shadow, taken.shadow), 0.0) << "the kept sphere's field is unchanged";
+}
+
+TEST_F(ObjectFieldsTest, TheCacheKeepsNoMoreThanItsCapacity) {
+  auto tiny = std::make_shared<FieldCache>(1024);
+  render_with(tiny, sphere_box_ground());
+  EXPECT_EQ(tiny->size(), 0u);
+  EXPECT_EQ(render_with(tiny, sphere_box_ground()).stats.fields_reused, 0);
+
+  // Room for the larger of the two fields only: the most recently refined stays.
+  auto one = std::make_shared<FieldCache>(size_t(64) << 20);
+  render_with(one, sphere_box_ground());
+  const size_t both = one->bytes();
+  auto small = std::make_shared<FieldCache>(both - 1);
+  render_with(small, sphere_box_ground());
+  EXPECT_EQ(small->size(), 1u);
+  EXPECT_LE(small->bytes(), small->capacity());
+  small->clear();
+  EXPECT_EQ(small->size(), 0u);
+  EXPECT_EQ(small->bytes(), 0u);
 }
 
 TEST(SingularValues, OfScalesAndRotations) {

@@ -1,0 +1,70 @@
+#pragma once
+// Refined fields of meshes that do not deform, kept between the renderers of
+// one device (the viewport, F12 renders, each frame of an animation render):
+// a mesh whose geometry and field settings match a field already refined
+// takes that field and traces nothing. A rigid mesh's field depends on its
+// own geometry only, so a new render of a scene whose objects only moved,
+// or of the same scene again, builds no field at all.
+#include <cstdint>
+#include <list>
+#include <memory>
+#include <mutex>
+#include <optional>
+
+#include "grid.h"
+#include "passes/fine_trace.h"
+#include "scene.h"
+
+namespace rtsdf {
+
+class PackedField;
+
+// What a mesh's field is made from: its geometry (a digest of its positions
+// and triangles) and every setting the build and refinement read.
+struct FieldKey {
+  uint64_t geometry = 0;
+  int coarse_resolution = 0, fine_resolution = 0;
+  float beta = 0.0f;
+  FineTraceSettings fine;
+  int updates = 0;  // fine updates it had
+
+  bool operator==(const FieldKey& other) const;
+};
+
+// A digest of a mesh's positions and triangles (its name and normals do not shape its field).
+uint64_t geometry_digest(const Mesh& mesh);
+
+struct CachedField {
+  std::shared_ptr<PackedField> packed;  // read-only once cached: its holders only read it
+  GridSpec coarse_grid, fine_grid;
+};
+
+class FieldCache {
+ public:
+  // Keeps at most `capacity_bytes` of fields; the least recently used go first.
+  explicit FieldCache(size_t capacity_bytes);
+
+  std::optional<CachedField> find(const FieldKey& key);
+  // A refined field; not kept when larger than the capacity.
+  void insert(const FieldKey& key, const CachedField& field);
+  void clear();
+
+  size_t bytes() const;
+  size_t size() const;
+  size_t capacity() const { return capacity_; }
+
+ private:
+  struct Entry {
+    FieldKey key;
+    CachedField field;
+    size_t bytes = 0;
+  };
+  void evict_to(size_t bytes);  // (with the lock held)
+
+  mutable std::mutex mutex_;  // a viewport and an F12 render may run on two threads
+  const size_t capacity_;
+  size_t bytes_ = 0;
+  std::list<Entry> entries_;  // most recently used first
+};
+
+}  // namespace rtsdf
