@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstring>
+#include <unordered_map>
 #include <utility>
 
 #include "error.h"
@@ -120,27 +121,45 @@ Bounds GpuScene::mesh_bounds(uint32_t mesh) const {
 void GpuScene::upload_raster() {
   std::vector<glm::vec3> positions, normals;
   std::vector<glm::vec2> uvs;
-  std::vector<uint32_t> indices, materials;
+  std::vector<uint32_t> indices, slots;
   meshes_.clear();
   for (const Mesh& mesh : scene_.meshes) {
     meshes_.push_back({uint32_t(indices.size()), uint32_t(positions.size()), uint32_t(mesh.triangle_count())});
-    positions.insert(positions.end(), mesh.positions.begin(), mesh.positions.end());
-    indices.insert(indices.end(), mesh.indices.begin(), mesh.indices.end());
-    if (mesh.normals.empty())
-      normals.resize(positions.size(), glm::vec3(0.0f));
-    else
-      normals.insert(normals.end(), mesh.normals.begin(), mesh.normals.end());
-    if (mesh.uvs.empty())
-      uvs.resize(positions.size(), glm::vec2(0.0f));
-    else
-      uvs.insert(uvs.end(), mesh.uvs.begin(), mesh.uvs.end());
-    if (mesh.materials.empty())
-      materials.resize(indices.size() / 3, 0u);
-    else
-      materials.insert(materials.end(), mesh.materials.begin(), mesh.materials.end());
+    // A vertex shared by faces of several material slots becomes one per slot
+    // (the G-buffer takes the slot from the vertex, not the triangle: a
+    // fragment shader that reads its primitive's index is 8x slower on lavapipe).
+    std::vector<uint32_t> corner_vertex = mesh.indices;
+    std::vector<uint32_t> vertex_source(mesh.positions.size()), vertex_slot(mesh.positions.size(), 0u);
+    for (uint32_t v = 0; v < vertex_source.size(); ++v) vertex_source[v] = v;
+    if (!mesh.materials.empty()) {
+      std::unordered_map<uint64_t, uint32_t> split;
+      std::vector<uint8_t> taken(mesh.positions.size(), 0);
+      for (size_t c = 0; c < corner_vertex.size(); ++c) {
+        const uint32_t v = mesh.indices[c], slot = mesh.materials[c / 3];
+        if (!taken[v]) {
+          taken[v] = 1;
+          vertex_slot[v] = slot;
+          split[(uint64_t(v) << 32) | slot] = v;
+          continue;
+        }
+        auto [it, added] = split.try_emplace((uint64_t(v) << 32) | slot, uint32_t(vertex_source.size()));
+        if (added) {
+          vertex_source.push_back(v);
+          vertex_slot.push_back(slot);
+        }
+        corner_vertex[c] = it->second;
+      }
+    }
+    for (uint32_t source : vertex_source) {
+      positions.push_back(mesh.positions[source]);
+      normals.push_back(mesh.normals.empty() ? glm::vec3(0.0f) : mesh.normals[source]);
+      uvs.push_back(mesh.uvs.empty() ? glm::vec2(0.0f) : mesh.uvs[source]);
+    }
+    slots.insert(slots.end(), vertex_slot.begin(), vertex_slot.end());
+    indices.insert(indices.end(), corner_vertex.begin(), corner_vertex.end());
   }
   uvs_ = storage(context_, uvs);
-  triangle_materials_ = storage(context_, materials);
+  vertex_materials_ = storage(context_, slots);
   static_assert(sizeof(glm::vec3) == 3 * sizeof(float), "positions are uploaded as packed floats");
   positions_ = storage(context_, positions);
   // (also the G-buffer's index buffer)
@@ -158,8 +177,14 @@ void GpuScene::upload_materials() {
   }
   std::vector<gpu::GpuMaterial> materials;
   material_ranges_.clear();
+  instance_colors_.clear();
   for (const Instance& instance : scene_.instances) {
-    material_ranges_.emplace_back(uint32_t(materials.size()), uint32_t(instance.materials.size()));
+    // One slot without an image is one colour: drawn without looking materials up.
+    const bool one_color = instance.materials.empty() ||
+                           (instance.materials.size() == 1 && instance.materials[0].texture < 0);
+    instance_colors_.push_back(instance.materials.empty() ? instance.base_color : instance.materials[0].base_color);
+    material_ranges_.emplace_back(uint32_t(materials.size()), one_color ? 0u : uint32_t(instance.materials.size()));
+    if (one_color) continue;
     for (const Material& material : instance.materials) {
       gpu::GpuMaterial m{};
       m.base_color = glm::vec4(material.base_color, 1.0f);

@@ -56,14 +56,17 @@ class GpuScene {
   const vk::Buffer& indices() const { return indices_; }
   // Per-vertex normals, (0,0,0) where a mesh has none (flat shading).
   const vk::Buffer& normals() const { return normals_; }
-  // Per-vertex UVs ((0,0) where a mesh has none), and per triangle its material slot.
+  // Per-vertex UVs ((0,0) where a mesh has none), and material slot (a
+  // vertex shared by faces of several slots is uploaded once per slot).
   const vk::Buffer& uvs() const { return uvs_; }
-  const vk::Buffer& triangle_materials() const { return triangle_materials_; }
+  const vk::Buffer& vertex_materials() const { return vertex_materials_; }
   // Every instance's material slots (gpu::GpuMaterial), and their images' texels.
   const vk::Buffer& materials() const { return materials_; }
   const vk::Buffer& texels() const { return texels_; }
-  // An instance's slots in materials(): (first, count); count 0: its base colour everywhere.
+  // An instance's slots in materials(): (first, count); count 0: one colour
+  // everywhere, instance_color() (its base colour, or its one slot's colour).
   glm::uvec2 material_range(uint32_t instance) const { return material_ranges_.at(instance); }
+  glm::vec3 instance_color(uint32_t instance) const { return instance_colors_.at(instance); }
   const std::vector<GpuMeshRange>& meshes() const { return meshes_; }
   const std::vector<Instance>& instances() const { return scene_.instances; }
   const Scene& scene() const { return scene_; }
@@ -135,10 +138,11 @@ class GpuScene {
   vk::Buffer indices_;
   vk::Buffer normals_;
   vk::Buffer uvs_;
-  vk::Buffer triangle_materials_;
+  vk::Buffer vertex_materials_;
   vk::Buffer materials_;
   vk::Buffer texels_;
   std::vector<glm::uvec2> material_ranges_;
+  std::vector<glm::vec3> instance_colors_;
   std::vector<GpuMeshRange> meshes_;
   bool has_ray_structures_ = false;
   std::vector<Bvh> mesh_bvhs_;

@@ -10,6 +10,7 @@ layout(std430, binding = 1) readonly buffer Frame { FrameData frame; };
 layout(std430, binding = 2) readonly buffer Normals { float normals[]; };
 layout(std430, binding = 3) readonly buffer PreviousTransforms { mat4 previous_transforms[]; };
 layout(std430, binding = 4) readonly buffer Uvs { vec2 uvs[]; };
+layout(std430, binding = 5) readonly buffer VertexMaterials { uint vertex_materials[]; };
 layout(push_constant) uniform Push { GBufferPush pc; };
 
 layout(location = 0) out vec3 v_world;
@@ -18,6 +19,7 @@ layout(location = 2) out vec4 v_steady_clip;    // this frame's clip position wi
 layout(location = 3) out vec4 v_previous_clip;  // the same point of the mesh in the last frame
 layout(location = 4) out vec3 v_previous_world;
 layout(location = 5) out vec2 v_uv;
+layout(location = 6) flat out uint v_slot;  // its material slot (the provoking vertex's counts)
 
 void main() {
   uint v = uint(gl_VertexIndex);  // (the mesh's base vertex included)
@@ -36,4 +38,5 @@ void main() {
   v_steady_clip = frame.steady_world_to_clip * vec4(v_world, 1.0);
   v_previous_clip = frame.previous_world_to_clip * vec4(v_previous_world, 1.0);
   v_uv = uvs[v];
+  v_slot = vertex_materials[v];
 }

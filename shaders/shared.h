@@ -138,10 +138,8 @@ struct GBufferPush {
   vec4 base_color;      // w = kShadedSurface or kHoldoutSurface; rgb where the instance has no materials
   float field_voxel;    // world size of a voxel of the field holding this surface (0: only a receiver, in no field)
   uint instance;        // its index: previous_transforms[instance] placed it in the last frame
-  uint first_triangle;  // its mesh's first triangle in the scene's per-triangle material slots
-  uint first_material;  // its material slots in the scene's materials
+  uint first_material;  // its material slots in the scene's materials (the vertices give the slot)
   uint material_count;  // 0: base_color everywhere
-  uint pad0, pad1, pad2;
 };
 
 // A material slot as the G-buffer reads it (Material, Texture in scene.h).
@@ -288,7 +286,7 @@ static_assert(sizeof(BvhNode) == 48, "BvhNode layout");
 static_assert(sizeof(WindingDipole) == 32, "WindingDipole layout");
 static_assert(sizeof(GpuLight) == 64, "GpuLight layout");
 static_assert(sizeof(FrameData) == 112 + 32 * kMaxSkyBlockers + 2 * 64 + 4 * 16, "FrameData layout");
-static_assert(sizeof(GBufferPush) == 112, "GBufferPush layout");
+static_assert(sizeof(GBufferPush) == 96, "GBufferPush layout");
 static_assert(sizeof(GpuMaterial) == 32, "GpuMaterial layout");
 static_assert(sizeof(ShadePush) == 128, "ShadePush layout");
 static_assert(sizeof(TemporalPush) == 48, "TemporalPush layout");

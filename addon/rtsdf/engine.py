@@ -38,6 +38,7 @@ class RTSDFRenderEngine(bpy.types.RenderEngine):
         self.view_error = None
         self.last_ms = None
         self.last_draw = None
+        self.view_warnings = set()  # printed once each
 
     def update_render_passes(self, scene=None, renderlayer=None):
         self.register_pass(scene, renderlayer, "Combined", 4, "RGBA", "COLOR")
@@ -148,7 +149,11 @@ class RTSDFRenderEngine(bpy.types.RenderEngine):
         first = self.signature is None
         stale = None if first else {update.id.original.name for update in depsgraph.updates
                                     if isinstance(update.id, bpy.types.Object) and update.is_updated_geometry}
-        meshes, instances, textures = sync.geometry(depsgraph, self.mesh_cache, stale)
+        notes = []
+        meshes, instances, textures = sync.geometry(depsgraph, self.mesh_cache, stale, notes)
+        for note in set(notes) - self.view_warnings:
+            print(f"RTSDF viewport: {note}")
+        self.view_warnings.update(notes)
         signature = ([m["key"] for m in meshes],
                      [(i["mesh"], tuple((tuple(m["color"]), m.get("texture", -1)) for m in i["materials"]), i["casts_shadow"], i["visible_camera"], i["holdout"])
                       for i in instances],

@@ -129,12 +129,14 @@ def surface_shader(material):
     return node
 
 
-def material_color(material):
+def material_color(material, warnings=None):
     """(linear RGB, image or None): a material's base colour as RTSDF shades
     it, followed from its Material Output to its BSDF's Base Color (or
     Color): an Image Texture linked there, else the colour set there. Other
     nodes on the way to the colour, and everything else the BSDF does
-    (roughness, metal, normal maps, transparency), are left out."""
+    (roughness, metal, normal maps, transparency), are left out. A material
+    without such a BSDF, or an image that cannot be read, gives the colour
+    that stands in and a note in `warnings` (a list)."""
     if material is None:
         return DEFAULT_COLOR, None
     if not (material.use_nodes and material.node_tree):
@@ -144,12 +146,19 @@ def material_color(material):
         shader = next((n for n in material.node_tree.nodes if n.type in ("BSDF_PRINCIPLED", "BSDF_DIFFUSE")), None)
     socket = None if shader is None else shader.inputs.get("Base Color") or shader.inputs.get("Color")
     if socket is None or socket.type != "RGBA":
+        if warnings is not None:
+            warnings.append(f"Material '{material.name}' has no BSDF with a colour RTSDF can read: its viewport "
+                            f"colour stands in")
         return tuple(material.diffuse_color[:3]), None
     color = tuple(socket.default_value[:3])
     if socket.is_linked:
         source = socket.links[0].from_node
-        if source.type == "TEX_IMAGE" and source.image is not None and source.image.size[0] > 0:
-            return color, source.image
+        if source.type == "TEX_IMAGE" and source.image is not None:
+            if source.image.size[0] > 0 and source.image.size[1] > 0:
+                return color, source.image
+            if warnings is not None:
+                warnings.append(f"Image '{source.image.name}' of material '{material.name}' could not be read "
+                                f"('{source.image.filepath}'): the colour set on its BSDF stands in")
     return color, None
 
 
@@ -354,19 +363,23 @@ def is_holdout(obj, held_collections):
         any(c.name in held_collections for c in original.users_collection)
 
 
-def geometry(depsgraph, cache=None, stale=None):
+def geometry(depsgraph, cache=None, stale=None, warnings=None):
     """(meshes, instances, textures) as the native module takes them. With
     `cache` (a dict kept by the caller, mesh key -> arrays), a mesh whose
     owner (see geometry_key) is not in `stale` (a set of object names; None:
     all stale) is taken from the cache instead of being read again. Each mesh
     dict carries its "key" and "owner"; each instance its material slots
-    ("materials": colour, and the index of its image in `textures`)."""
+    ("materials": colour, and the index of its image in `textures`). What a
+    material cannot give is noted in `warnings` (a list), once each."""
     meshes, instances, mesh_index = [], [], {}
     textures, texture_index = [], {}
     held = holdout_collections(depsgraph.view_layer)
 
     def slot(material):
-        color, image = material_color(material)
+        notes = []
+        color, image = material_color(material, notes)
+        if warnings is not None:
+            warnings.extend(note for note in notes if note not in warnings)
         if image is None:
             return {"color": color}
         if image.name not in texture_index:
@@ -426,10 +439,10 @@ def extract(depsgraph):
         raise SceneError("Panoramic cameras are not supported: RTSDF renders perspective and orthographic cameras")
     width, height = render_size(scene)
     region = render_region(scene, width, height)
-    meshes, instances, textures = geometry(depsgraph)
+    warnings = []
+    meshes, instances, textures = geometry(depsgraph, warnings=warnings)
     camera = camera_data(depsgraph, scene.camera.evaluated_get(depsgraph), width, height)
     camera["projection"] = region_projection(camera["projection"], width, height, region)
-    warnings = []
     ambient = world_color(scene, warnings)
     return {
         "warnings": warnings,

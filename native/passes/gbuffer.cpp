@@ -16,8 +16,8 @@ constexpr VkFormat kDepth = VK_FORMAT_D32_SFLOAT;
 GBufferPass::GBufferPass(const vk::Context& context)
     : context_(context),
       pipeline_(context, RTSDF_SPIRV(spirv_gbuffer_vert), RTSDF_SPIRV(spirv_gbuffer_frag),
-                std::vector<VkDescriptorType>(8, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER),
-                sizeof(gpu::GBufferPush), vk::RenderTargets{{kColor, kColor, kColor, kColor}, kDepth}) {}
+                std::vector<VkDescriptorType>(8, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER), sizeof(gpu::GBufferPush),
+                vk::RenderTargets{{kColor, kColor, kColor, kColor}, kDepth}) {}
 
 void GBufferPass::resize(int width, int height) {
   if (width == width_ && height == height_) return;
@@ -51,25 +51,23 @@ void GBufferPass::record(VkCommandBuffer cmd, const GpuScene& scene, const vk::B
   VkRect2D scissor{{0, 0}, {uint32_t(width_), uint32_t(height_)}};
   vkCmdSetViewport(cmd, 0, 1, &viewport);
   vkCmdSetScissor(cmd, 0, 1, &scissor);
-  pipeline_.bind(cmd);
-  pipeline_.push_descriptors(cmd, {vk::Resource::storage_buffer(scene.positions()), vk::Resource::storage_buffer(frame),
-                                   vk::Resource::storage_buffer(scene.normals()),
-                                   vk::Resource::storage_buffer(previous_transforms), vk::Resource::storage_buffer(scene.uvs()),
-                                   vk::Resource::storage_buffer(scene.triangle_materials()),
-                                   vk::Resource::storage_buffer(scene.materials()),
-                                   vk::Resource::storage_buffer(scene.texels())});
   vkCmdBindIndexBuffer(cmd, scene.indices().handle(), 0, VK_INDEX_TYPE_UINT32);
+  pipeline_.bind(cmd);
+  pipeline_.push_descriptors(
+      cmd, {vk::Resource::storage_buffer(scene.positions()), vk::Resource::storage_buffer(frame),
+            vk::Resource::storage_buffer(scene.normals()), vk::Resource::storage_buffer(previous_transforms),
+            vk::Resource::storage_buffer(scene.uvs()), vk::Resource::storage_buffer(scene.vertex_materials()),
+            vk::Resource::storage_buffer(scene.materials()), vk::Resource::storage_buffer(scene.texels())});
   for (size_t i = 0; i < scene.instances().size(); ++i) {
     const Instance& instance = scene.instances()[i];
     const GpuMeshRange& mesh = scene.meshes()[instance.mesh];
     if (mesh.triangle_count == 0 || !instance.visible_to_camera) continue;
+    const glm::uvec2 slots = scene.material_range(uint32_t(i));
     gpu::GBufferPush push{};
     push.object_to_world = instance.object_to_world;
-    push.base_color = glm::vec4(instance.base_color, instance.holdout ? gpu::kHoldoutSurface : gpu::kShadedSurface);
+    push.base_color = glm::vec4(scene.instance_color(uint32_t(i)), instance.holdout ? gpu::kHoldoutSurface : gpu::kShadedSurface);
     push.field_voxel = field_voxels[i];
     push.instance = uint32_t(i);
-    push.first_triangle = mesh.first_index / 3;
-    const glm::uvec2 slots = scene.material_range(uint32_t(i));
     push.first_material = slots.x;
     push.material_count = slots.y;
     pipeline_.push_constants(cmd, push);

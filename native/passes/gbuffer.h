@@ -1,6 +1,7 @@
 #pragma once
 // Pass 3a: the raster G-buffer from the camera: world position (w = covered),
-// face normal, base colour and motion since the last frame per pixel, for
+// face normal, base colour (its instance's, or per face from its material
+// slots and their images) and motion since the last frame per pixel, for
 // the shading and temporal passes to read.
 #include <memory>
 #include <vector>

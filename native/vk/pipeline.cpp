@@ -34,6 +34,15 @@ VkPipelineShaderStageCreateInfo stage_info(VkShaderStageFlagBits stage, const Sh
   return info;
 }
 
+// The values of a shader's 32-bit constants (constant_id i: values[i]), as
+// stages take them; `entries` holds what the info points to.
+VkSpecializationInfo specialization_info(const std::vector<uint32_t>& values,
+                                         std::vector<VkSpecializationMapEntry>& entries) {
+  entries.clear();
+  for (uint32_t i = 0; i < values.size(); ++i) entries.push_back({i, uint32_t(i * sizeof(uint32_t)), sizeof(uint32_t)});
+  return {uint32_t(entries.size()), entries.data(), values.size() * sizeof(uint32_t), values.data()};
+}
+
 }  // namespace
 
 Resource Resource::storage_image(const Image& image) {
@@ -79,10 +88,7 @@ Pipeline::Pipeline(const Context& context, Spirv compute, std::vector<VkDescript
     create_layout(std::move(bindings), push_bytes, VK_SHADER_STAGE_COMPUTE_BIT);
     ShaderModule module(device_, compute);
     std::vector<VkSpecializationMapEntry> entries;
-    for (uint32_t i = 0; i < specialization.size(); ++i)
-      entries.push_back({i, uint32_t(i * sizeof(uint32_t)), sizeof(uint32_t)});
-    VkSpecializationInfo constants{uint32_t(entries.size()), entries.data(), specialization.size() * sizeof(uint32_t),
-                                   specialization.data()};
+    const VkSpecializationInfo constants = specialization_info(specialization, entries);
     VkComputePipelineCreateInfo info{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
     info.stage = stage_info(VK_SHADER_STAGE_COMPUTE_BIT, module);
     if (!specialization.empty()) info.stage.pSpecializationInfo = &constants;

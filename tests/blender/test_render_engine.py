@@ -257,6 +257,28 @@ class RenderEngine(unittest.TestCase):
         print(f"green pixels: RTSDF {green[0]}, Cycles {green[1]}")
         self.assertGreater(min(green), 50)
 
+    def test_a_missing_image_and_a_material_without_a_bsdf_are_reported(self):
+        from rtsdf import sync
+        tree = bpy.data.materials["Sphere"].node_tree
+        texture = tree.nodes.new("ShaderNodeTexImage")
+        texture.image = bpy.data.images.new("wood", 4, 4)  # (then pointed at a file that is not there)
+        texture.image.source = "FILE"
+        texture.image.filepath = "/nonexistent/wood.png"
+        texture.image.reload()
+        tree.links.new(texture.outputs["Color"], tree.nodes["Diffuse BSDF"].inputs["Color"])
+        box = bpy.data.materials["Box"]
+        box.node_tree.nodes.remove(box.node_tree.nodes["Diffuse BSDF"])
+        box.diffuse_color = (0.0, 1.0, 0.0, 1.0)
+        warnings = []
+        _, instances, textures = sync.geometry(bpy.context.evaluated_depsgraph_get(), warnings=warnings)
+        self.assertEqual(textures, [])
+        self.assertTrue(any("wood.png" in w for w in warnings), warnings)
+        self.assertTrue(any("'Box' has no BSDF" in w for w in warnings), warnings)
+        colors = {tuple(np.round(i["color"], 3)) for i in instances}
+        self.assertIn((0.0, 1.0, 0.0), colors, "the viewport colour stands in")
+        _, image = render("RTSDF", self.tmp.name, "missing_image", samples=2)
+        self.assertGreater(image[..., :3].max(), 0.1, "and the render goes on")
+
     def test_an_environment_texture_lights_as_its_mean_and_a_sky_is_reported(self):
         from rtsdf import sync
         scene = bpy.context.scene
