@@ -247,7 +247,7 @@ def field_summary(stats, per_frame=False):
     bricks = stats["brick_count"]
     occupancy = f" ({stats['stored_bricks'] / bricks:.0%} of bricks)" if bricks else ""
     return (f"{stats['fields']} fields for {stats['field_instances']} instances, {stats['field_mb']:.1f} MB{occupancy} | "
-            f"{stats['fields_regenerated']} rebuilt, {traced:,} texels traced")
+            f"{stats['fields_regenerated']} rebuilt, {stats['fields_reused']} kept from before, {traced:,} texels traced")
 
 
 def field_lines(stats, mesh_names):
