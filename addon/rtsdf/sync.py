@@ -370,22 +370,28 @@ def geometry(depsgraph, cache=None, stale=None, warnings=None):
     all stale) is taken from the cache instead of being read again. Each mesh
     dict carries its "key" and "owner"; each instance its material slots
     ("materials": colour, and the index of its image in `textures`). What a
-    material cannot give is noted in `warnings` (a list), once each."""
+    material cannot give is noted in `warnings` (a list), once per material."""
     meshes, instances, mesh_index = [], [], {}
     textures, texture_index = [], {}
     held = holdout_collections(depsgraph.view_layer)
 
+    slots = {}  # material name (None: no material) -> its slot, read once however many instances use it
+
     def slot(material):
+        name = None if material is None else material.name
+        if name in slots:
+            return slots[name]
         notes = []
         color, image = material_color(material, notes)
         if warnings is not None:
-            warnings.extend(note for note in notes if note not in warnings)
-        if image is None:
-            return {"color": color}
-        if image.name not in texture_index:
-            texture_index[image.name] = len(textures)
-            textures.append({"name": image.name, "pixels": image_texels(image)})
-        return {"color": color, "texture": texture_index[image.name]}
+            warnings.extend(notes)
+        slots[name] = {"color": color}
+        if image is not None:
+            if image.name not in texture_index:
+                texture_index[image.name] = len(textures)
+                textures.append({"name": image.name, "pixels": image_texels(image)})
+            slots[name]["texture"] = texture_index[image.name]
+        return slots[name]
     for instance in depsgraph.object_instances:
         obj = instance.object
         if obj.type not in GEOMETRY_TYPES:
