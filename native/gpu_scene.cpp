@@ -81,8 +81,7 @@ const GpuScene::RayStructures& GpuScene::ray_structures() {
   if (casters_.empty()) throw Error("the scene has no shadow-casting geometry to trace");
   if (!has_ray_structures_) {
     Clock::time_point start = Clock::now();
-    mesh_bvhs_.resize(scene_.meshes.size());
-    pieces_.resize(scene_.meshes.size());
+    bottom_levels_.resize(scene_.meshes.size());
     for (uint32_t m = 0; m < scene_.meshes.size(); ++m) build_bottom_level(m);
     upload_bottom_levels();
     build_top_level();
@@ -98,7 +97,7 @@ GpuScene::RayTargets GpuScene::mesh_rays(uint32_t mesh) {
   mesh_tops_.resize(scene_.meshes.size());
   MeshTop& top = mesh_tops_[mesh];
   if (!top.top_nodes) {
-    gpu::BvhNode root = gpu_nodes(mesh_bvhs_[mesh])[0];
+    gpu::BvhNode root = gpu_nodes(bottom_levels_[mesh].bvh)[0];
     root.first = 0;
     root.count = 1;  // a leaf over the one instance
     gpu::RayInstance instance{};
@@ -118,54 +117,92 @@ Bounds GpuScene::mesh_bounds(uint32_t mesh) const {
   return b;
 }
 
-void GpuScene::upload_raster() {
+namespace {
+
+// One mesh's vertices as the G-buffer draws them. A vertex shared by faces of
+// several material slots becomes one per slot (the G-buffer takes the slot
+// from the vertex, not the triangle: a fragment shader that reads its
+// primitive's index is 8x slower on lavapipe).
+struct RasterMesh {
   std::vector<glm::vec3> positions, normals;
   std::vector<glm::vec2> uvs;
-  std::vector<uint32_t> indices, slots;
+  std::vector<uint32_t> slots, indices;  // indices from the mesh's first vertex
+};
+
+RasterMesh raster_mesh(const Mesh& mesh) {
+  RasterMesh out;
+  out.indices = mesh.indices;
+  std::vector<uint32_t> vertex_source(mesh.positions.size());
+  for (uint32_t v = 0; v < vertex_source.size(); ++v) vertex_source[v] = v;
+  out.slots.assign(mesh.positions.size(), 0u);
+  if (!mesh.materials.empty()) {
+    std::unordered_map<uint64_t, uint32_t> split;
+    std::vector<uint8_t> taken(mesh.positions.size(), 0);
+    for (size_t c = 0; c < out.indices.size(); ++c) {
+      const uint32_t v = mesh.indices[c], slot = mesh.materials[c / 3];
+      if (!taken[v]) {
+        taken[v] = 1;
+        out.slots[v] = slot;
+        split[(uint64_t(v) << 32) | slot] = v;
+        continue;
+      }
+      auto [it, added] = split.try_emplace((uint64_t(v) << 32) | slot, uint32_t(vertex_source.size()));
+      if (added) {
+        vertex_source.push_back(v);
+        out.slots.push_back(slot);
+      }
+      out.indices[c] = it->second;
+    }
+  }
+  for (uint32_t source : vertex_source) {
+    out.positions.push_back(mesh.positions[source]);
+    out.normals.push_back(mesh.normals.empty() ? glm::vec3(0.0f) : mesh.normals[source]);
+    out.uvs.push_back(mesh.uvs.empty() ? glm::vec2(0.0f) : mesh.uvs[source]);
+  }
+  return out;
+}
+
+template <typename T>
+void write_range(const vk::Context& context, const vk::Buffer& buffer, size_t first, const std::vector<T>& data) {
+  vk::write_buffer(context, buffer, first * sizeof(T), data.data(), data.size() * sizeof(T));
+}
+
+}  // namespace
+
+void GpuScene::upload_raster() {
+  RasterMesh all;
   meshes_.clear();
   for (const Mesh& mesh : scene_.meshes) {
-    meshes_.push_back({uint32_t(indices.size()), uint32_t(positions.size()), uint32_t(mesh.triangle_count())});
-    // A vertex shared by faces of several material slots becomes one per slot
-    // (the G-buffer takes the slot from the vertex, not the triangle: a
-    // fragment shader that reads its primitive's index is 8x slower on lavapipe).
-    std::vector<uint32_t> corner_vertex = mesh.indices;
-    std::vector<uint32_t> vertex_source(mesh.positions.size()), vertex_slot(mesh.positions.size(), 0u);
-    for (uint32_t v = 0; v < vertex_source.size(); ++v) vertex_source[v] = v;
-    if (!mesh.materials.empty()) {
-      std::unordered_map<uint64_t, uint32_t> split;
-      std::vector<uint8_t> taken(mesh.positions.size(), 0);
-      for (size_t c = 0; c < corner_vertex.size(); ++c) {
-        const uint32_t v = mesh.indices[c], slot = mesh.materials[c / 3];
-        if (!taken[v]) {
-          taken[v] = 1;
-          vertex_slot[v] = slot;
-          split[(uint64_t(v) << 32) | slot] = v;
-          continue;
-        }
-        auto [it, added] = split.try_emplace((uint64_t(v) << 32) | slot, uint32_t(vertex_source.size()));
-        if (added) {
-          vertex_source.push_back(v);
-          vertex_slot.push_back(slot);
-        }
-        corner_vertex[c] = it->second;
-      }
-    }
-    for (uint32_t source : vertex_source) {
-      positions.push_back(mesh.positions[source]);
-      normals.push_back(mesh.normals.empty() ? glm::vec3(0.0f) : mesh.normals[source]);
-      uvs.push_back(mesh.uvs.empty() ? glm::vec2(0.0f) : mesh.uvs[source]);
-    }
-    slots.insert(slots.end(), vertex_slot.begin(), vertex_slot.end());
-    indices.insert(indices.end(), corner_vertex.begin(), corner_vertex.end());
+    RasterMesh one = raster_mesh(mesh);
+    meshes_.push_back({uint32_t(all.indices.size()), uint32_t(all.positions.size()), uint32_t(mesh.triangle_count()),
+                       uint32_t(one.positions.size())});
+    all.positions.insert(all.positions.end(), one.positions.begin(), one.positions.end());
+    all.normals.insert(all.normals.end(), one.normals.begin(), one.normals.end());
+    all.uvs.insert(all.uvs.end(), one.uvs.begin(), one.uvs.end());
+    all.slots.insert(all.slots.end(), one.slots.begin(), one.slots.end());
+    all.indices.insert(all.indices.end(), one.indices.begin(), one.indices.end());
   }
-  uvs_ = storage(context_, uvs);
-  vertex_materials_ = storage(context_, slots);
+  uvs_ = storage(context_, all.uvs);
+  vertex_materials_ = storage(context_, all.slots);
   static_assert(sizeof(glm::vec3) == 3 * sizeof(float), "positions are uploaded as packed floats");
-  positions_ = storage(context_, positions);
+  positions_ = storage(context_, all.positions);
   // (also the G-buffer's index buffer)
-  indices_ = vk::upload_buffer(context_, indices.data(), indices.size() * sizeof(uint32_t),
+  indices_ = vk::upload_buffer(context_, all.indices.data(), all.indices.size() * sizeof(uint32_t),
                                VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_INDEX_BUFFER_BIT);
-  normals_ = storage(context_, normals);
+  normals_ = storage(context_, all.normals);
+}
+
+bool GpuScene::write_raster_in_place(uint32_t mesh) {
+  GpuMeshRange& range = meshes_[mesh];
+  RasterMesh one = raster_mesh(scene_.meshes[mesh]);
+  if (one.positions.size() != range.vertex_count || one.indices.size() != 3 * size_t(range.triangle_count))
+    return false;
+  write_range(context_, positions_, range.base_vertex, one.positions);
+  write_range(context_, normals_, range.base_vertex, one.normals);
+  write_range(context_, uvs_, range.base_vertex, one.uvs);
+  write_range(context_, vertex_materials_, range.base_vertex, one.slots);
+  write_range(context_, indices_, range.first_index, one.indices);
+  return true;
 }
 
 void GpuScene::upload_materials() {
@@ -205,8 +242,19 @@ void GpuScene::upload_materials() {
 }
 
 void GpuScene::build_bottom_level(uint32_t mesh) {
-  mesh_bvhs_[mesh] = build_mesh_bvh(scene_.meshes[mesh]);
-  pieces_[mesh] = mesh_pieces(scene_.meshes[mesh]);
+  const Mesh& geometry = scene_.meshes[mesh];
+  BottomLevel& level = bottom_levels_[mesh];
+  level.bvh = build_mesh_bvh(geometry);
+  level.pieces = mesh_pieces(geometry);
+  level.dipoles = winding_dipoles(level.bvh, geometry, level.pieces);
+  // The first corner's w is the thickness of the triangle's piece (0: a
+  // sheet), the second's -1 where the triangle faces into its piece, see mesh_topology.h.
+  level.corners.clear();
+  level.corners.reserve(3 * geometry.triangle_count());
+  for (uint32_t t : level.bvh.order)
+    for (int k = 0; k < 3; ++k)
+      level.corners.emplace_back(geometry.positions[geometry.indices[3 * t + k]],
+                                 k == 0 ? level.pieces.thickness[t] : k == 1 && level.pieces.faces_in[t] ? -1.0f : 1.0f);
 }
 
 void GpuScene::upload_bottom_levels() {
@@ -214,26 +262,42 @@ void GpuScene::upload_bottom_levels() {
   std::vector<gpu::WindingDipole> dipoles;
   std::vector<glm::vec4> corners;
   blas_roots_.clear();
-  for (uint32_t m = 0; m < scene_.meshes.size(); ++m) {
-    const Mesh& mesh = scene_.meshes[m];
-    const Bvh& bvh = mesh_bvhs_[m];
+  node_capacities_.clear();
+  for (uint32_t m = 0; m < bottom_levels_.size(); ++m) {
+    const BottomLevel& level = bottom_levels_[m];
     const uint32_t node_offset = uint32_t(nodes.size()), triangle_offset = uint32_t(corners.size() / 3);
     blas_roots_.push_back(node_offset);
-    const std::vector<gpu::BvhNode> mesh_nodes = gpu_nodes(bvh, node_offset, triangle_offset);
+    const std::vector<gpu::BvhNode> mesh_nodes = gpu_nodes(level.bvh, node_offset, triangle_offset);
     nodes.insert(nodes.end(), mesh_nodes.begin(), mesh_nodes.end());
-    const std::vector<gpu::WindingDipole> mesh_dipoles = winding_dipoles(bvh, mesh, pieces_[m]);
-    dipoles.insert(dipoles.end(), mesh_dipoles.begin(), mesh_dipoles.end());
-    // The first corner's w is the thickness of the triangle's piece (0: a
-    // sheet), the second's -1 where the triangle faces into its piece, see mesh_topology.h.
-    for (uint32_t t : bvh.order)
-      for (int k = 0; k < 3; ++k)
-        corners.emplace_back(mesh.positions[mesh.indices[3 * t + k]],
-                             k == 0 ? pieces_[m].thickness[t] : k == 1 && pieces_[m].faces_in[t] ? -1.0f : 1.0f);
+    dipoles.insert(dipoles.end(), level.dipoles.begin(), level.dipoles.end());
+    corners.insert(corners.end(), level.corners.begin(), level.corners.end());
+    // A mesh that has deformed will again: its range holds the most nodes a
+    // tree over its triangles can have (2n - 1), so that each rebuilt tree is
+    // written where it is and the other meshes' levels are not uploaded again.
+    const size_t capacity = mesh_versions_[m] > 0 ? std::max<size_t>(2 * level.corners.size() / 3, 1) - 1 : 0;
+    node_capacities_.push_back(std::max(capacity, mesh_nodes.size()));
+    nodes.resize(node_offset + node_capacities_.back());
+    dipoles.resize(node_offset + node_capacities_.back());
   }
   rays_.bottom_nodes = storage(context_, nodes);
   rays_.triangles = storage(context_, corners);
   rays_.winding_dipoles = storage(context_, dipoles);
   mesh_tops_.clear();  // (their roots may have moved)
+}
+
+bool GpuScene::write_bottom_level_in_place(uint32_t mesh) {
+  const BottomLevel& level = bottom_levels_[mesh];
+  if (level.bvh.nodes.size() > node_capacities_[mesh]) return false;
+  // Its triangles start where the meshes before it end (the caller has
+  // checked that the triangle count is the same).
+  uint32_t first_triangle = 0;
+  for (uint32_t m = 0; m < mesh; ++m) first_triangle += uint32_t(bottom_levels_[m].corners.size() / 3);
+  const uint32_t root = blas_roots_[mesh];
+  write_range(context_, rays_.bottom_nodes, root, gpu_nodes(level.bvh, root, first_triangle));
+  write_range(context_, rays_.winding_dipoles, root, level.dipoles);
+  write_range(context_, rays_.triangles, 3 * size_t(first_triangle), level.corners);
+  if (mesh < mesh_tops_.size()) mesh_tops_[mesh] = MeshTop{};  // (its root node's box changed)
+  return true;
 }
 
 void GpuScene::build_top_level() {
@@ -242,7 +306,7 @@ void GpuScene::build_top_level() {
   for (uint32_t i : casters_) {
     const Instance& instance = scene_.instances[i];
     Aabb box;
-    const BvhBuildNode& root = mesh_bvhs_[instance.mesh].nodes[0];
+    const BvhBuildNode& root = bottom_levels_[instance.mesh].bvh.nodes[0];
     for (int corner = 0; corner < 8; ++corner) {
       glm::vec3 p(corner & 1 ? root.box.hi.x : root.box.lo.x, corner & 2 ? root.box.hi.y : root.box.lo.y,
                   corner & 4 ? root.box.hi.z : root.box.lo.z);
@@ -306,7 +370,7 @@ void GpuScene::set_mesh(uint32_t mesh, Mesh geometry) {
   Scene::validate_mesh(geometry);
   if (!shape_changed) {
     current = std::move(geometry);
-    upload_raster();
+    if (!write_raster_in_place(mesh)) upload_raster();
     return;
   }
   for (uint32_t i = 0; i < scene_.instances.size(); ++i)
@@ -328,11 +392,13 @@ void GpuScene::set_mesh(uint32_t mesh, Mesh geometry) {
   for (uint32_t i = 0; i < scene_.instances.size(); ++i)
     if (scene_.instances[i].mesh == mesh) mark_changed(i);  // the new one
   update_bounds();
-  upload_raster();
+  // A deformation keeps the counts: only this mesh's ranges are rewritten.
+  const bool in_place = write_raster_in_place(mesh);
+  if (!in_place) upload_raster();
   if (!has_ray_structures_) return;
   Clock::time_point start = Clock::now();
   build_bottom_level(mesh);
-  upload_bottom_levels();
+  if (!in_place || !write_bottom_level_in_place(mesh)) upload_bottom_levels();
   build_top_level();
   bvh_build_ms_ = ms_since(start);
 }

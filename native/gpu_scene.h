@@ -18,6 +18,7 @@ struct GpuMeshRange {
   uint32_t first_index = 0;
   uint32_t base_vertex = 0;
   uint32_t triangle_count = 0;
+  uint32_t vertex_count = 0;  // as uploaded (with the vertices split between material slots)
 };
 
 class GpuScene {
@@ -113,9 +114,15 @@ class GpuScene {
 
  private:
   void upload_raster();
+  // Rewrites one mesh's vertices and indices where they are, when it keeps
+  // their counts (a deformation); false when its range would change size.
+  bool write_raster_in_place(uint32_t mesh);
   void upload_materials();
   void build_bottom_level(uint32_t mesh);
   void upload_bottom_levels();
+  // Rewrites one mesh's bottom level where it is, when it keeps its triangle
+  // count and its nodes fit its range; false otherwise.
+  bool write_bottom_level_in_place(uint32_t mesh);
   void build_top_level();
   void update_bounds();
   void mark_changed(uint32_t instance);  // adds the instance's current world bounds, if it casts shadows
@@ -145,9 +152,17 @@ class GpuScene {
   std::vector<glm::vec3> instance_colors_;
   std::vector<GpuMeshRange> meshes_;
   bool has_ray_structures_ = false;
-  std::vector<Bvh> mesh_bvhs_;
-  std::vector<Pieces> pieces_;  // per mesh (see mesh_topology.h)
+  // One mesh's bottom level as built on the host: a deforming mesh rebuilds
+  // its own, and the others' are copied, not derived again.
+  struct BottomLevel {
+    Bvh bvh;
+    Pieces pieces;  // (see mesh_topology.h)
+    std::vector<gpu::WindingDipole> dipoles;
+    std::vector<glm::vec4> corners;  // as in RayStructures::triangles
+  };
+  std::vector<BottomLevel> bottom_levels_;  // per mesh
   std::vector<uint32_t> blas_roots_;
+  std::vector<size_t> node_capacities_;  // per mesh: the nodes its range in bottom_nodes can hold
   RayStructures rays_;
   double bvh_build_ms_ = 0.0;
 };

@@ -162,6 +162,22 @@ Buffer upload_buffer(const Context& context, const void* data, VkDeviceSize size
   return buffer;
 }
 
+void write_buffer(const Context& context, const Buffer& buffer, VkDeviceSize offset, const void* data,
+                  VkDeviceSize size) {
+  if (size == 0) return;
+  if (offset + size > buffer.size()) throw Error("write_buffer: the range ends past the buffer");
+  Buffer staging(context, size, VK_BUFFER_USAGE_TRANSFER_SRC_BIT, Buffer::Access::HostVisible);
+  std::memcpy(staging.mapped(), data, size);
+  context.submit_and_wait([&](VkCommandBuffer cmd) {
+    memory_barrier(cmd, VK_ACCESS_MEMORY_READ_BIT, VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT,
+                   VK_PIPELINE_STAGE_TRANSFER_BIT);
+    VkBufferCopy region{0, offset, size};
+    vkCmdCopyBuffer(cmd, staging.handle(), buffer.handle(), 1, &region);
+    memory_barrier(cmd, VK_ACCESS_TRANSFER_WRITE_BIT, VK_ACCESS_MEMORY_READ_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT,
+                   VK_PIPELINE_STAGE_ALL_COMMANDS_BIT);
+  });
+}
+
 void make_general(const Context& context, std::initializer_list<const Image*> images) {
   context.submit_and_wait([&](VkCommandBuffer cmd) {
     for (const Image* image : images)

@@ -72,6 +72,11 @@ class Image {
 
 // Uploads host data into a new device-local buffer through a staging copy.
 Buffer upload_buffer(const Context& context, const void* data, VkDeviceSize size, VkBufferUsageFlags usage);
+// Overwrites `size` bytes of a device-local buffer (made with TRANSFER_DST
+// usage, as upload_buffer's are) at `offset`, after the work submitted before
+// has read it and before any work submitted after reads it.
+void write_buffer(const Context& context, const Buffer& buffer, VkDeviceSize offset, const void* data,
+                  VkDeviceSize size);
 
 // Barrier helpers for the common "previous writes visible to next reads" case.
 void image_barrier(VkCommandBuffer cmd, VkImage image, VkImageLayout from, VkImageLayout to,

@@ -293,6 +293,33 @@ double largest_difference(const std::vector<float>& a, const std::vector<float>&
   return a.size() == b.size() ? worst : 1e9;
 }
 
+// A mesh that deforms again and again keeps its place in the scene's buffers
+// (its vertices, its BVH in the range reserved at its first deformation):
+// each frame renders as a fresh upload of the deformed scene does, its
+// shadow through the rebuilt BVH and its surface through the rewritten vertices.
+TEST_F(ObjectFieldsTest, ADeformingMeshRewrittenInPlaceRendersAsAFreshUpload) {
+  Scene scene = sphere_box_ground();
+  GpuScene gpu_scene(context(), scene);
+  RenderSettings settings;
+  settings.samples = 2;
+  settings.shadow_method = ShadowMethod::RayTraced;
+  Renderer renderer(context());
+  const glm::mat4 deformations[] = {glm::scale(glm::mat4(1.0f), {1.3f, 1.0f, 1.0f}),
+                                    glm::scale(glm::mat4(1.0f), {0.7f, 1.4f, 0.9f}),
+                                    glm::translate(glm::mat4(1.0f), {0.4f, -0.2f, 0.1f})};
+  for (const glm::mat4& deformation : deformations) {
+    for (glm::vec3& p : scene.meshes[0].positions) p = glm::vec3(deformation * glm::vec4(p, 1.0f));
+    gpu_scene.set_mesh_positions(0, scene.meshes[0].positions);
+    const RenderOutput in_place = renderer.render(gpu_scene, top_view(3.0f), {overhead_sun()}, glm::vec3(0.1f), 64, 64, settings);
+    GpuScene fresh_scene(context(), scene);
+    Renderer fresh_renderer(context());
+    const RenderOutput fresh = fresh_renderer.render(fresh_scene, top_view(3.0f), {overhead_sun()}, glm::vec3(0.1f), 64, 64, settings);
+    EXPECT_LT(largest_difference(in_place.combined, fresh.combined), 1e-4);
+    EXPECT_LT(largest_difference(in_place.shadow, fresh.shadow), 1e-4);
+  }
+  EXPECT_EQ(gpu_scene.mesh_version(0), 3u);
+}
+
 TEST_F(ObjectFieldsTest, ANewRendererTakesRefinedFieldsAndTracesNothing) {
   auto cache = std::make_shared<FieldCache>(size_t(64) << 20);
   const RenderOutput first = render_with(cache, sphere_box_ground());
