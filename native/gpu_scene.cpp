@@ -124,7 +124,7 @@ namespace {
 // from the vertex, not the triangle: a fragment shader that reads its
 // primitive's index is 8x slower on lavapipe).
 struct RasterMesh {
-  std::vector<glm::vec3> positions, normals;
+  std::vector<glm::vec3> positions, normals, colors;
   std::vector<glm::vec2> uvs;
   std::vector<uint32_t> slots, indices;  // indices from the mesh's first vertex
 };
@@ -158,6 +158,7 @@ RasterMesh raster_mesh(const Mesh& mesh) {
     out.positions.push_back(mesh.positions[source]);
     out.normals.push_back(mesh.normals.empty() ? glm::vec3(0.0f) : mesh.normals[source]);
     out.uvs.push_back(mesh.uvs.empty() ? glm::vec2(0.0f) : mesh.uvs[source]);
+    out.colors.push_back(mesh.colors.empty() ? glm::vec3(1.0f) : mesh.colors[source]);
   }
   return out;
 }
@@ -179,6 +180,7 @@ void GpuScene::upload_raster() {
     all.positions.insert(all.positions.end(), one.positions.begin(), one.positions.end());
     all.normals.insert(all.normals.end(), one.normals.begin(), one.normals.end());
     all.uvs.insert(all.uvs.end(), one.uvs.begin(), one.uvs.end());
+    all.colors.insert(all.colors.end(), one.colors.begin(), one.colors.end());
     all.slots.insert(all.slots.end(), one.slots.begin(), one.slots.end());
     all.indices.insert(all.indices.end(), one.indices.begin(), one.indices.end());
   }
@@ -190,6 +192,7 @@ void GpuScene::upload_raster() {
   indices_ = vk::upload_buffer(context_, all.indices.data(), all.indices.size() * sizeof(uint32_t),
                                VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_INDEX_BUFFER_BIT);
   normals_ = storage(context_, all.normals);
+  colors_ = storage(context_, all.colors);
 }
 
 bool GpuScene::write_raster_in_place(uint32_t mesh) {
@@ -200,6 +203,7 @@ bool GpuScene::write_raster_in_place(uint32_t mesh) {
   write_range(context_, positions_, range.base_vertex, one.positions);
   write_range(context_, normals_, range.base_vertex, one.normals);
   write_range(context_, uvs_, range.base_vertex, one.uvs);
+  write_range(context_, colors_, range.base_vertex, one.colors);
   write_range(context_, vertex_materials_, range.base_vertex, one.slots);
   write_range(context_, indices_, range.first_index, one.indices);
   return true;
@@ -217,14 +221,16 @@ void GpuScene::upload_materials() {
   instance_colors_.clear();
   for (const Instance& instance : scene_.instances) {
     // One slot without an image is one colour: drawn without looking materials up.
-    const bool one_color = instance.materials.empty() ||
-                           (instance.materials.size() == 1 && instance.materials[0].texture < 0);
+    const bool one_color = instance.materials.empty() || (instance.materials.size() == 1 &&
+                                                          instance.materials[0].texture < 0 &&
+                                                          !instance.materials[0].vertex_color);
     instance_colors_.push_back(instance.materials.empty() ? instance.base_color : instance.materials[0].base_color);
     material_ranges_.emplace_back(uint32_t(materials.size()), one_color ? 0u : uint32_t(instance.materials.size()));
     if (one_color) continue;
     for (const Material& material : instance.materials) {
       gpu::GpuMaterial m{};
       m.base_color = glm::vec4(material.base_color, 1.0f);
+      m.vertex_color = material.vertex_color ? 1u : 0u;
       if (material.texture >= 0) {
         const Texture& texture = scene_.textures[size_t(material.texture)];
         m.texel_first = first_texel[size_t(material.texture)];

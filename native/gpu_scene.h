@@ -61,6 +61,8 @@ class GpuScene {
   // vertex shared by faces of several slots is uploaded once per slot).
   const vk::Buffer& uvs() const { return uvs_; }
   const vk::Buffer& vertex_materials() const { return vertex_materials_; }
+  // Per-vertex colours, white where a mesh has none.
+  const vk::Buffer& colors() const { return colors_; }
   // Every instance's material slots (gpu::GpuMaterial), and their images' texels.
   const vk::Buffer& materials() const { return materials_; }
   const vk::Buffer& texels() const { return texels_; }
@@ -146,6 +148,7 @@ class GpuScene {
   vk::Buffer normals_;
   vk::Buffer uvs_;
   vk::Buffer vertex_materials_;
+  vk::Buffer colors_;
   vk::Buffer materials_;
   vk::Buffer texels_;
   std::vector<glm::uvec2> material_ranges_;

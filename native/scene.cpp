@@ -31,6 +31,11 @@ void Scene::validate_mesh(const Mesh& mesh) {
     throw Error(label + " has a UV count different from its vertex count");
   for (const glm::vec2& uv : mesh.uvs)
     if (!std::isfinite(uv.x) || !std::isfinite(uv.y)) throw Error(label + " has NaN or infinite UVs");
+  if (!mesh.colors.empty() && mesh.colors.size() != mesh.positions.size())
+    throw Error(label + " has a vertex colour count different from its vertex count");
+  for (const glm::vec3& c : mesh.colors)
+    if (!std::isfinite(c.x) || !std::isfinite(c.y) || !std::isfinite(c.z))
+      throw Error(label + " has NaN or infinite vertex colours");
 }
 
 void Scene::validate() const {

@@ -19,6 +19,9 @@ struct Mesh {
   std::vector<uint32_t> materials;
   // Optional per-vertex texture coordinates (Blender's: v up); empty: none.
   std::vector<glm::vec2> uvs;
+  // Optional per-vertex colours (a colour attribute, linear RGB) that
+  // materials with vertex_color multiply their base colour by; empty: white.
+  std::vector<glm::vec3> colors;
   size_t triangle_count() const { return indices.size() / 3; }
 };
 
@@ -27,7 +30,10 @@ struct Mesh {
 struct Material {
   glm::vec3 base_color{0.8f};  // linear RGB
   int texture = -1;            // index into Scene::textures; -1: none
-  bool operator==(const Material& other) const { return base_color == other.base_color && texture == other.texture; }
+  bool vertex_color = false;   // the base colour times the mesh's colours (Mesh::colors), where there is no image
+  bool operator==(const Material& other) const {
+    return base_color == other.base_color && texture == other.texture && vertex_color == other.vertex_color;
+  }
   bool operator!=(const Material& other) const { return !(*this == other); }
 };
 

@@ -4,8 +4,8 @@
 // kHoldoutSurface where a holdout is seen), shading
 // normal (interpolated for smooth meshes, else the triangle's plane, from the
 // screen derivatives of the position: shading turns it to face the camera),
-// base colour (the face's material slot: its colour, or its image
-// sampled at the UV) with a = the world voxel size of the field holding the surface
+// base colour (the face's material slot: its colour, times the vertex
+// colour where it takes that, or its image sampled at the UV) with a = the world voxel size of the field holding the surface
 // (0: only a receiver, in no field), and motion: xy = where this surface
 // point was on screen in the last frame, from where it is now (normalized
 // device coordinates, both without the jitter), z = its depth from the last
@@ -25,6 +25,7 @@ layout(location = 3) in vec4 v_previous_clip;
 layout(location = 4) in vec3 v_previous_world;
 layout(location = 5) in vec2 v_uv;
 layout(location = 6) flat in uint v_slot;
+layout(location = 7) in vec3 v_color;
 layout(std430, binding = 6) readonly buffer Materials { GpuMaterial materials[]; };
 layout(std430, binding = 7) readonly buffer Texels { uint texels[]; };
 layout(location = 0) out vec4 out_position;
@@ -56,7 +57,8 @@ vec3 base_color() {
   if (pc.material_count == 0u) return pc.base_color.rgb;
   uint slot = min(v_slot, pc.material_count - 1u);
   GpuMaterial m = materials[pc.first_material + slot];
-  return m.width == 0u ? m.base_color.rgb : sample_image(m, v_uv);
+  if (m.width != 0u) return sample_image(m, v_uv);
+  return m.vertex_color != 0u ? m.base_color.rgb * v_color : m.base_color.rgb;
 }
 
 void main() {

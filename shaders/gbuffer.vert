@@ -11,6 +11,7 @@ layout(std430, binding = 2) readonly buffer Normals { float normals[]; };
 layout(std430, binding = 3) readonly buffer PreviousTransforms { mat4 previous_transforms[]; };
 layout(std430, binding = 4) readonly buffer Uvs { vec2 uvs[]; };
 layout(std430, binding = 5) readonly buffer VertexMaterials { uint vertex_materials[]; };
+layout(std430, binding = 8) readonly buffer VertexColors { float colors[]; };
 layout(push_constant) uniform Push { GBufferPush pc; };
 
 layout(location = 0) out vec3 v_world;
@@ -20,6 +21,7 @@ layout(location = 3) out vec4 v_previous_clip;  // the same point of the mesh in
 layout(location = 4) out vec3 v_previous_world;
 layout(location = 5) out vec2 v_uv;
 layout(location = 6) flat out uint v_slot;  // its material slot (the provoking vertex's counts)
+layout(location = 7) out vec3 v_color;      // its colour attribute (white where the mesh has none)
 
 void main() {
   uint v = uint(gl_VertexIndex);  // (the mesh's base vertex included)
@@ -39,4 +41,5 @@ void main() {
   v_previous_clip = frame.previous_world_to_clip * vec4(v_previous_world, 1.0);
   v_uv = uvs[v];
   v_slot = vertex_materials[v];
+  v_color = vec3(colors[3u * v], colors[3u * v + 1u], colors[3u * v + 2u]);
 }

@@ -148,7 +148,7 @@ struct GpuMaterial {
   uint texel_first;  // its image's first texel in the scene's texels
   uint width;        // its image's size in texels; 0: no image
   uint height;
-  uint pad0;
+  uint vertex_color;  // 1: base_color times the vertex's colour (where there is no image)
 };
 
 // The temporal resolve: history reprojected into the first frame after a change.

@@ -33,6 +33,7 @@ class RTSDFRenderEngine(bpy.types.RenderEngine):
         self.mesh_cache = {}      # mesh key -> arrays last sent
         self.signature = None     # what a transform-only update must leave unchanged
         self.matrices = None
+        self.lighting = None      # lights and world colour, read at the latest view_update
         self.texture = None
         self.texture_frame = -1
         self.view_error = None
@@ -151,11 +152,12 @@ class RTSDFRenderEngine(bpy.types.RenderEngine):
                                     if isinstance(update.id, bpy.types.Object) and update.is_updated_geometry}
         notes = []
         meshes, instances, textures = sync.geometry(depsgraph, self.mesh_cache, stale, notes)
+        self.lighting = sync.view_lighting(depsgraph, notes)
         for note in set(notes) - self.view_warnings:
             print(f"RTSDF viewport: {note}")
         self.view_warnings.update(notes)
         signature = ([m["key"] for m in meshes],
-                     [(i["mesh"], tuple((tuple(m["color"]), m.get("texture", -1)) for m in i["materials"]), i["casts_shadow"], i["visible_camera"], i["holdout"])
+                     [(i["mesh"], tuple((tuple(m["color"]), m.get("texture", -1), m.get("vertex_color", False)) for m in i["materials"]), i["casts_shadow"], i["visible_camera"], i["holdout"])
                       for i in instances],
                      [(t["name"], t["pixels"].shape) for t in textures])
         matrices = [i["matrix"] for i in instances]
@@ -189,7 +191,7 @@ class RTSDFRenderEngine(bpy.types.RenderEngine):
                        grid_slack=0.5, quick_first_frame=settings.viewport_quick_first_frame,
                        temporal_reuse=settings.viewport_temporal_reuse)
         try:
-            out = self.viewport.draw(sync.view_data(depsgraph, context.region_data, width, height), options)
+            out = self.viewport.draw(sync.view_data(context.region_data, width, height, self.lighting), options)
         except RuntimeError as e:
             self.view_error = str(e)
             self.update_stats("", f"RTSDF: {e}")

@@ -16,7 +16,7 @@ constexpr VkFormat kDepth = VK_FORMAT_D32_SFLOAT;
 GBufferPass::GBufferPass(const vk::Context& context)
     : context_(context),
       pipeline_(context, RTSDF_SPIRV(spirv_gbuffer_vert), RTSDF_SPIRV(spirv_gbuffer_frag),
-                std::vector<VkDescriptorType>(8, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER), sizeof(gpu::GBufferPush),
+                std::vector<VkDescriptorType>(9, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER), sizeof(gpu::GBufferPush),
                 vk::RenderTargets{{kColor, kColor, kColor, kColor}, kDepth}) {}
 
 void GBufferPass::resize(int width, int height) {
@@ -57,7 +57,8 @@ void GBufferPass::record(VkCommandBuffer cmd, const GpuScene& scene, const vk::B
       cmd, {vk::Resource::storage_buffer(scene.positions()), vk::Resource::storage_buffer(frame),
             vk::Resource::storage_buffer(scene.normals()), vk::Resource::storage_buffer(previous_transforms),
             vk::Resource::storage_buffer(scene.uvs()), vk::Resource::storage_buffer(scene.vertex_materials()),
-            vk::Resource::storage_buffer(scene.materials()), vk::Resource::storage_buffer(scene.texels())});
+            vk::Resource::storage_buffer(scene.materials()), vk::Resource::storage_buffer(scene.texels()),
+            vk::Resource::storage_buffer(scene.colors())});
   for (size_t i = 0; i < scene.instances().size(); ++i) {
     const Instance& instance = scene.instances()[i];
     const GpuMeshRange& mesh = scene.meshes()[instance.mesh];

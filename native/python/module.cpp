@@ -102,7 +102,7 @@ rtsdf::LightType light_type(const std::string& name) {
 }
 
 // A mesh as sync's "meshes" entries give it: positions, indices, optional name, normals, per-triangle
-// material slots ("materials") and UVs.
+// material slots ("materials"), UVs and colours.
 rtsdf::Mesh mesh_of(const py::dict& d) {
   rtsdf::Mesh mesh = mesh_from_arrays(
       d["positions"].cast<py::array_t<float, py::array::c_style | py::array::forcecast>>(),
@@ -122,6 +122,12 @@ rtsdf::Mesh mesh_of(const py::dict& d) {
     auto uvs = d["uvs"].cast<py::array_t<float, py::array::c_style | py::array::forcecast>>();
     if (uvs.ndim() != 2 || uvs.shape(1) != 2) throw rtsdf::Error("uvs must have shape (N, 2)");
     for (py::ssize_t i = 0; i < uvs.shape(0); ++i) mesh.uvs.emplace_back(uvs.at(i, 0), uvs.at(i, 1));
+  }
+  if (d.contains("colors")) {
+    auto colors = d["colors"].cast<py::array_t<float, py::array::c_style | py::array::forcecast>>();
+    if (colors.ndim() != 2 || colors.shape(1) < 3) throw rtsdf::Error("colors must have shape (N, 3) or (N, 4)");
+    for (py::ssize_t i = 0; i < colors.shape(0); ++i)
+      mesh.colors.emplace_back(colors.at(i, 0), colors.at(i, 1), colors.at(i, 2));
   }
   return mesh;
 }
@@ -152,7 +158,7 @@ rtsdf::Scene scene_of(const py::dict& scene_desc) {
     if (d.contains("materials"))
       for (const py::handle& slot : d["materials"].cast<py::list>()) {
         py::dict m = slot.cast<py::dict>();
-        instance.materials.push_back({vec3_of(m["color"]), get<int>(m, "texture", -1)});
+        instance.materials.push_back({vec3_of(m["color"]), get<int>(m, "texture", -1), get<bool>(m, "vertex_color", false)});
       }
     instance.casts_shadow = get<bool>(d, "casts_shadow", true);
     instance.visible_to_camera = get<bool>(d, "visible_camera", true);
@@ -499,7 +505,8 @@ class Session {
       return false;
     for (size_t m = 0; m < meshes_.size(); ++m)
       if (scene.meshes[m].positions != meshes_[m].positions || scene.meshes[m].indices != meshes_[m].indices ||
-          scene.meshes[m].materials != meshes_[m].materials || scene.meshes[m].uvs != meshes_[m].uvs)
+          scene.meshes[m].materials != meshes_[m].materials || scene.meshes[m].uvs != meshes_[m].uvs ||
+          scene.meshes[m].colors != meshes_[m].colors)
         return false;
     for (size_t i = 0; i < instances_.size(); ++i)
       if (scene.instances[i].mesh != instances_[i].mesh || scene.instances[i].base_color != instances_[i].base_color ||

@@ -3,7 +3,7 @@ the RTSDF engine renders the sample scene close to Cycles, writes its passes,
 renders animations, and reports bad scenes instead of failing.
 
 BLENDER_USER_SCRIPTS=build/blender_user_scripts blender -b --factory-startup \
-    --python-exit-code 1 --python tests/blender/test_render_engine.py -- build/samples/sphere_plane.blend
+    --python-exit-code 1 --python tests/blender/test_render_engine.py -- build/samples/sphere_plane.blend [-k PATTERN]
 """
 import os
 import sys
@@ -257,6 +257,48 @@ class RenderEngine(unittest.TestCase):
         print(f"green pixels: RTSDF {green[0]}, Cycles {green[1]}")
         self.assertGreater(min(green), 50)
 
+    def test_colour_attributes_shade_as_in_cycles(self):
+        # The ground's Diffuse colour from a Color Attribute node (the render
+        # default: a byte colour per face corner, red to green across x), the
+        # sphere's from an Attribute node naming a float colour per vertex
+        # (blue below, yellow above).
+        from rtsdf import sync
+        ground, sphere = bpy.data.objects["Ground"], bpy.data.objects["Sphere"]
+        corners = ground.data.color_attributes.new("Paint", "BYTE_COLOR", "CORNER")
+        ground.data.color_attributes.render_color_index = ground.data.color_attributes.find("Paint")
+        extent = max(abs(v.co.x) for v in ground.data.vertices)
+        for loop in ground.data.loops:
+            t = 0.5 + 0.5 * ground.data.vertices[loop.vertex_index].co.x / extent
+            corners.data[loop.index].color = (1.0 - t, t, 0.1, 1.0)
+        points = sphere.data.color_attributes.new("Height", "FLOAT_COLOR", "POINT")
+        for vertex in sphere.data.vertices:
+            t = 0.5 + vertex.co.z
+            points.data[vertex.index].color = (t, t, 1.0 - t, 1.0)
+        for obj, node_type, name in ((ground, "ShaderNodeVertexColor", None), (sphere, "ShaderNodeAttribute", "Height")):
+            tree = obj.active_material.node_tree
+            node = tree.nodes.new(node_type)
+            if name is not None:
+                node.attribute_name = name
+            tree.links.new(node.outputs["Color"], tree.nodes["Diffuse BSDF"].inputs["Color"])
+
+        meshes, instances, _ = sync.geometry(bpy.context.evaluated_depsgraph_get())
+        self.assertTrue(all("colors" in m for m in meshes if m["key"] in ("Ground", "Sphere")))
+        _, rtsdf_image = render("RTSDF", self.tmp.name, "attributes", samples=4)
+        _, cycles = render("CYCLES", self.tmp.name, "attributes_cycles")
+        rmse = float(np.sqrt(np.mean((rtsdf_image[..., :3] - cycles[..., :3]) ** 2)))
+        print(f"colour attributes, RTSDF against Cycles: RMSE {rmse:.4f}")
+        self.assertLess(rmse, RMSE_TOLERANCE)
+        for image in (rtsdf_image, cycles):
+            red = (image[..., 0] > 2 * image[..., 1] + 0.02).mean()
+            green = (image[..., 1] > 2 * image[..., 0] + 0.02).mean()
+            self.assertGreater(min(red, green), 0.05, "both ends of the ground's gradient show")
+
+        # A material reading an attribute the mesh lacks: noted, its socket's colour stands in.
+        sphere.active_material.node_tree.nodes["Attribute"].attribute_name = "Missing"
+        warnings = []
+        _, instances, _ = sync.geometry(bpy.context.evaluated_depsgraph_get(), warnings=warnings)
+        self.assertTrue(any("'Missing'" in w for w in warnings), warnings)
+
     def test_a_missing_image_and_a_material_without_a_bsdf_are_reported(self):
         from rtsdf import sync
         tree = bpy.data.materials["Sphere"].node_tree
@@ -492,5 +534,6 @@ class RenderEngine(unittest.TestCase):
         self.assertIn("camera", self.assert_reports_error())
 
 
-result = unittest.main(argv=["blender"], exit=False, verbosity=2).result
+# (after the sample, unittest's own arguments: -k PATTERN runs the matching tests only)
+result = unittest.main(argv=["blender"] + sys.argv[sys.argv.index("--") + 2:], exit=False, verbosity=2).result
 sys.exit(0 if result.wasSuccessful() else 1)

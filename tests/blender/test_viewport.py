@@ -49,6 +49,10 @@ class Viewport(unittest.TestCase):
     def test_moving_an_object_moves_its_shadow(self):
         self.assertLess(self.results["moved_shadow_iou"], 0.5)
 
+    def test_a_dimmed_light_dims_the_view(self):
+        # (Display transforms are not linear: a quarter of the light is well under 0.8 of the brightness.)
+        self.assertLess(self.results["dimmed_ground_luminance_ratio"], 0.8)
+
     def test_playback_frames_reuse_history(self):
         # Temporal reuse (the default): a frame change keeps the reprojected
         # history where nothing moved, so the pixels stand for more than the

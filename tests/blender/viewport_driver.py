@@ -209,6 +209,19 @@ def steps():
     results["moved_shadow_iou"] = float((before & after).sum() / max((before | after).sum(), 1))
     moving.location = start_location
 
+    # A light dimmed from Python: the viewport reads lights when the scene
+    # changes, not at each redraw, and still follows.
+    yield from wait_converged(time.perf_counter())
+    lit = viewport_in_camera_pixels(screenshot("viewport_lit.png"), area, region, frame, width, height)
+    lights = [o.data for o in scene.objects if o.type == "LIGHT"]
+    for light in lights:
+        light.energy *= 0.25
+    yield from wait_converged(time.perf_counter())
+    dimmed = viewport_in_camera_pixels(screenshot("viewport_dimmed.png"), area, region, frame, width, height)
+    results["dimmed_ground_luminance_ratio"] = float(luminance(dimmed)[ground].mean() / luminance(lit)[ground].mean())
+    for light in lights:
+        light.energy *= 4.0
+
     # Frame changes: the moving object animated along a circle; each change is
     # followed by one synchronous redraw (view_update + view_draw).
     scene.frame_start, scene.frame_end = 1, FRAMES

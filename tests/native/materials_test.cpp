@@ -1,6 +1,9 @@
 // Materials in the G-buffer: each triangle's material slot picks its
 // instance's colour, an image is sampled by the mesh's UVs (repeating,
-// sRGB-decoded), and bad material input is refused with a clear error.
+// sRGB-decoded), vertex colours multiply the base colour of slots that take
+// them, and bad material input is refused with a clear error.
+#include <cmath>
+
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "error.h"
@@ -99,6 +102,28 @@ TEST_F(MaterialsTest, AnImageIsSampledByTheUvs) {
   EXPECT_NEAR(grey / white, 0.5f, 0.04f) << "texels are decoded from sRGB";
 }
 
+// A colour attribute is interpolated between the vertices and multiplies the
+// base colour of the slots that take it; other slots ignore it.
+TEST_F(MaterialsTest, VertexColoursMultiplyTheBaseColourOfSlotsThatTakeThem) {
+  Scene scene = sheet_scene();
+  const glm::vec3 yellow(1, 1, 0), cyan(0, 1, 1);
+  scene.meshes[0].colors = {yellow, yellow, cyan, cyan};  // (bottom, bottom, top, top)
+  Material magenta_by_vertex{glm::vec3(1, 0, 1)};
+  magenta_by_vertex.vertex_color = true;
+  scene.instances[0].materials = {magenta_by_vertex};
+  RenderOutput out = render_from_above(scene);
+  expect_hue(hue_at(out, 0.0f, -0.9f), {1, 0, 0.05f}, "bottom: magenta times yellow");
+  expect_hue(hue_at(out, 0.0f, 0.9f), {0.05f, 0, 1}, "top: magenta times cyan");
+  expect_hue(hue_at(out, 0.0f, 0.0f), {1, 0, 1}, "between: interpolated");
+
+  // A slot that does not take the colours shows its own colour.
+  scene.meshes[0].materials = {0, 1};
+  scene.instances[0].materials = {magenta_by_vertex, {glm::vec3(0, 0.8f, 0)}};
+  out = render_from_above(scene);
+  expect_hue(hue_at(out, 0.5f, -0.8f), {1, 0, 0.1f}, "slot 0: by vertex");
+  expect_hue(hue_at(out, -0.5f, 0.5f), {0, 1, 0}, "slot 1: its own colour");
+}
+
 TEST_F(MaterialsTest, BadMaterialInputIsRefused) {
   Scene scene = sheet_scene();
   scene.meshes[0].materials = {0};  // one slot index for two triangles
@@ -111,6 +136,11 @@ TEST_F(MaterialsTest, BadMaterialInputIsRefused) {
   EXPECT_THROW(GpuScene(context(), scene), Error);
   scene = sheet_scene();
   scene.meshes[0].uvs = {{0, 0}, {1, 0}};  // two UVs for four vertices
+  EXPECT_THROW(GpuScene(context(), scene), Error);
+  scene = sheet_scene();
+  scene.meshes[0].colors = {glm::vec3(1.0f)};  // one colour for four vertices
+  EXPECT_THROW(GpuScene(context(), scene), Error);
+  scene.meshes[0].colors.assign(4, glm::vec3(1.0f, std::nanf(""), 0.0f));
   EXPECT_THROW(GpuScene(context(), scene), Error);
 }
 
