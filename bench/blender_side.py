@@ -6,9 +6,13 @@
   eevee:   EEVEE renders (run under Xvfb) over a sweep of its shadow settings,
            and the frames its viewport shows while the mover plays prepare's move.
 
-blender -b SCENE.blend --addons rtsdf --python bench/blender_side.py -- MODE OUT_DIR PERCENT CYCLES_SAMPLES STEPS [quick]
+blender -b --addons rtsdf --python bench/blender_side.py -- MODE PERCENT CYCLES_SAMPLES STEPS quick|full \
+    SCENE.blend OUT_DIR [SCENE.blend OUT_DIR ...]
 (STEPS: the playback's steps, bench/run's ANIMATION_STEPS)
-Writes pickles of plain data and numpy arrays (linear RGB, rows top to bottom) into OUT_DIR.
+One Blender for every scene (each opened in turn), so that Blender's start and
+EEVEE's built-in shaders are paid once. Writes pickles of plain data and numpy
+arrays (linear RGB, rows top to bottom) into each OUT_DIR, and
+OUT_DIR/MODE.error where that scene failed (the others still run).
 """
 import json
 import os
@@ -16,6 +20,7 @@ import pickle
 import sys
 import tempfile
 import time
+import traceback
 
 import bpy
 import numpy as np
@@ -23,10 +28,10 @@ from mathutils import Vector
 
 from rtsdf import sync
 
-MODE, OUT, PERCENT, CYCLES_SAMPLES, PLAYBACK_STEPS = sys.argv[sys.argv.index("--") + 1:][:5]
-QUICK = sys.argv[-1] == "quick"
-PERCENT, CYCLES_SAMPLES, PLAYBACK_STEPS = int(PERCENT), int(CYCLES_SAMPLES), int(PLAYBACK_STEPS)
-os.makedirs(OUT, exist_ok=True)
+ARGS = sys.argv[sys.argv.index("--") + 1:]
+MODE, PERCENT, CYCLES_SAMPLES, PLAYBACK_STEPS, QUICK = ARGS[0], int(ARGS[1]), int(ARGS[2]), int(ARGS[3]), ARGS[4] == "quick"
+SCENES = list(zip(ARGS[5::2], ARGS[6::2]))  # (blend file, its output directory)
+OUT = None  # the output directory of the scene open now
 
 
 def render_pixels():
@@ -160,4 +165,14 @@ def eevee():
         json.dump(results, f, indent=1)
 
 
-{"prepare": prepare, "eevee": eevee}[MODE]()
+for blend, OUT in SCENES:
+    os.makedirs(OUT, exist_ok=True)
+    started = time.perf_counter()
+    try:
+        bpy.ops.wm.open_mainfile(filepath=blend, load_ui=False)
+        {"prepare": prepare, "eevee": eevee}[MODE]()
+    except Exception:  # (one broken scene must not cost the others their figures)
+        with open(os.path.join(OUT, MODE + ".error"), "w") as f:
+            f.write(traceback.format_exc())
+    with open(os.path.join(OUT, MODE + ".seconds"), "w") as f:
+        f.write(f"{time.perf_counter() - started:.1f}\n")

@@ -261,13 +261,11 @@ def field_lines(stats, mesh_names):
 
 
 def warn_about_fields(engine, stats):
-    """Reports what the fields left out or coarsened, once per render."""
+    """Reports what the fields coarsened, once per render (instances they
+    leave out, scaled flat, sync names before the render)."""
     if stats["resolution_scale"] < 1.0:
         engine.report({"WARNING"}, f"RTSDF: field resolutions lowered to {stats['resolution_scale']:.0%} to fit "
                                    "the field memory budget")
-    if stats["skipped_degenerate"]:
-        engine.report({"WARNING"}, f"RTSDF: {stats['skipped_degenerate']} instances scaled flat cast no shadow "
-                                   "(a zero scale leaves a field nothing to measure)")
 
 
 classes = (RTSDFRenderEngine,)

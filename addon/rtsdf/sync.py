@@ -11,6 +11,9 @@ import numpy as np
 from mathutils import Vector
 
 GEOMETRY_TYPES = {"MESH", "CURVE", "SURFACE", "FONT", "META"}
+# Geometry without faces (e.g. what a Geometry Nodes tree outputs), as the user is told it is.
+SURFACELESS_TYPES = {"POINTCLOUD": "a point cloud", "CURVES": "hair curves", "VOLUME": "a volume"}
+DEGENERATE_SCALE = 1e-4  # (the native kDegenerateScale: instances flatter than this are left out of the fields)
 
 
 class SceneError(Exception):
@@ -463,11 +466,20 @@ def geometry(depsgraph, cache=None, stale=None, warnings=None):
                           "holdout": is_holdout(obj, held)}
         return flags[key]
 
-    matrices = []
+    matrices, owners = [], []  # (each instance's transform and object)
+    noted = set()
+
+    def note(message):  # (once per message, however many instances share it)
+        if warnings is not None and message not in noted:
+            noted.add(message)
+            warnings.append(message)
 
     def add_instance(instance):
         obj = instance.object
         if obj.type not in GEOMETRY_TYPES:
+            if obj.type in SURFACELESS_TYPES:
+                note(f"Object '{obj.name}' is {SURFACELESS_TYPES[obj.type]} (no faces): RTSDF renders faces only, "
+                     f"it is left out")
             return
         if not instance.is_instance and not instance.show_self:
             return  # (an instancer shown through its instances only, e.g. a particle emitter)
@@ -487,6 +499,8 @@ def geometry(depsgraph, cache=None, stale=None, warnings=None):
                 arrays = mesh_arrays(obj, with_uvs=textured, color_attribute=attribute, warnings=warnings)
                 if arrays is not None:
                     arrays["key"], arrays["owner"] = key, owner
+                elif obj.type != "MESH" or len(obj.data.vertices):  # (not a tree's empty mesh beside its points)
+                    note(f"Object '{obj.name}' has no faces (points, edges or curves only): it is left out")
                 if cache is not None:
                     cache[key] = arrays
             mesh_index[key] = None if arrays is None else len(meshes)
@@ -497,14 +511,20 @@ def geometry(depsgraph, cache=None, stale=None, warnings=None):
         if attribute is not None and "colors" in meshes[mesh_index[key]]:
             materials = [slot_by_vertex(m, s) for m, s in zip(slot_owners, materials)]
         matrices.append(instance.matrix_world.copy())  # (the instance's own is valid during this step only)
+        owners.append(obj.original)
         instances.append({"mesh": mesh_index[key], "color": materials[0]["color"], "materials": materials,
                           **object_flags(obj)})
 
     with collection_paused():  # (a collection every few thousand new objects costs a third of the time)
         for instance in depsgraph.object_instances:
             add_instance(instance)
-    for instance, matrix in zip(instances, as_arrays(matrices)):
+    matrices = as_arrays(matrices)
+    for instance, matrix in zip(instances, matrices):
         instance["matrix"] = matrix
+    flat = flattened(matrices)
+    for obj in {owners[i].name: owners[i] for i in np.flatnonzero(flat)}.values():
+        note(f"Object '{obj.name}' has instances scaled flat (to zero size along an axis): they cast no shadow "
+             f"and show nothing")
     if cache is not None:
         for gone in set(cache) - set(mesh_index):  # (objects deleted, geometry evaluated anew)
             del cache[gone]
@@ -526,6 +546,21 @@ def collection_paused():
             gc.enable()
 
 
+def flattened(matrices):
+    """(N,) bool: which of the (N, 4, 4) transforms scale to zero size along
+    some axis (their smallest singular value under DEGENERATE_SCALE of their
+    largest, or all zero), as the native renderer leaves them out of the fields."""
+    linear = matrices[:, :3, :3].astype(np.float64)
+    largest = np.linalg.norm(linear, axis=1).max(axis=1, initial=0.0)
+    # (only transforms whose volume is small against their largest axis can be flat: few get an SVD)
+    suspects = np.flatnonzero(np.abs(np.linalg.det(linear)) <= 1e-3 * largest ** 3)
+    flat = np.zeros(len(matrices), bool)
+    if len(suspects):
+        singular = np.linalg.svd(linear[suspects], compute_uv=False)
+        flat[suspects] = singular[:, -1] <= DEGENERATE_SCALE * singular[:, 0]
+    return flat
+
+
 def as_arrays(matrices):
     """(N, 4, 4) float32, rows as mathutils' Matrix rows, from a list of N
     matrices: in one pass (numpy's conversion of each Matrix alone takes 7x
@@ -534,9 +569,21 @@ def as_arrays(matrices):
     return np.fromiter(values, dtype=np.float32, count=16 * len(matrices)).reshape(-1, 4, 4)
 
 
-def lights(depsgraph):
-    return [light_data(instance.object.data, instance.matrix_world)
-            for instance in depsgraph.object_instances if instance.object.type == "LIGHT"]
+def lights(depsgraph, warnings=None):
+    """Every light instance's light_data; a light of negative or non-finite
+    power is left out, with a note in `warnings`."""
+    found = []
+    for instance in depsgraph.object_instances:
+        if instance.object.type != "LIGHT":
+            continue
+        light = instance.object.data
+        if not (math.isfinite(light.energy) and light.energy >= 0.0):
+            if warnings is not None:
+                warnings.append(f"Light '{instance.object.name}' has a power of {light.energy:g} W: RTSDF takes "
+                                f"no negative light, it is left out")
+            continue
+        found.append(light_data(light, instance.matrix_world))
+    return found
 
 
 def extract(depsgraph):
@@ -558,7 +605,7 @@ def extract(depsgraph):
         "meshes": meshes,
         "instances": instances,
         "textures": textures,
-        "lights": lights(depsgraph),
+        "lights": lights(depsgraph, warnings),
         "camera": camera,
         "width": region[2],
         "height": region[3],
@@ -570,7 +617,7 @@ def view_lighting(depsgraph, warnings=None):
     """The lights and the world colour a viewport draws with. They change only
     with the scene, so the viewport reads them in view_update, not at every
     redraw."""
-    return {"lights": lights(depsgraph), "ambient": world_color(depsgraph.scene, warnings)}
+    return {"lights": lights(depsgraph, warnings), "ambient": world_color(depsgraph.scene, warnings)}
 
 
 def view_data(region_data, width, height, lighting):

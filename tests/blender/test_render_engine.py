@@ -119,6 +119,38 @@ class RenderEngine(unittest.TestCase):
         self.assertLess(rmse, RMSE_TOLERANCE)
         self.assertGreater(np.abs(rtsdf_image - without).max(), 0.2, "the instances show")
 
+    def test_a_particle_emitter_shows_only_where_set_as_in_cycles(self):
+        """Particles instancing a small cube from a plane over the sphere; the
+        plane itself shows only with Show Emitter (instance.show_self)."""
+        from rtsdf import sync
+        bpy.ops.mesh.primitive_plane_add(size=1.6, location=(0.0, 0.0, 1.7))
+        emitter = bpy.context.object
+        bpy.ops.mesh.primitive_cube_add(size=0.2, location=(0.0, 0.0, -30.0))  # (out of view: its copies show)
+        cube = bpy.context.object
+        emitter.modifiers.new("Particles", "PARTICLE_SYSTEM")
+        particles = emitter.particle_systems[0].settings
+        particles.count, particles.frame_start, particles.frame_end = 16, 1, 1
+        particles.physics_type, particles.render_type, particles.instance_object = "NO", "OBJECT", cube
+        particles.particle_size = 1.0
+        bpy.context.scene.frame_set(1)
+
+        def owners():
+            data = sync.extract(bpy.context.evaluated_depsgraph_get())
+            return [data["meshes"][i["mesh"]]["owner"] for i in data["instances"]]
+        # (the context's depsgraph is the viewport's; F12's reads the render flag)
+        emitter.show_instancer_for_viewport = emitter.show_instancer_for_render = True
+        self.assertIn(emitter.name, owners())
+        emitter.show_instancer_for_viewport = emitter.show_instancer_for_render = False
+        shown = owners()
+        self.assertNotIn(emitter.name, shown)
+        self.assertEqual(shown.count(cube.name), 1 + 16, "the cube and its 16 copies")
+
+        _, rtsdf_image = render("RTSDF", self.tmp.name, "particles_rtsdf", samples=8)
+        _, cycles = render("CYCLES", self.tmp.name, "particles_cycles")
+        rmse = float(np.sqrt(np.mean((rtsdf_image[..., :3] - cycles[..., :3]) ** 2)))
+        print(f"particles without their emitter, RTSDF against Cycles: RMSE {rmse:.4f}")
+        self.assertLess(rmse, RMSE_TOLERANCE)
+
     def test_lights_with_their_shadow_off_cast_none_as_in_cycles(self):
         _, shadowed = render("RTSDF", self.tmp.name, "shadow_on", samples=4)
         for light in bpy.data.lights:
@@ -523,6 +555,40 @@ class RenderEngine(unittest.TestCase):
         bad.from_pydata([(0, 0, 0), (1, 0, 0), (0, float("nan"), 0)], [], [(0, 1, 2)])
         scene.collection.objects.link(bpy.data.objects.new("Bad", bad))
         self.assertIn("NaN", self.assert_reports_error())
+
+    def test_points_only_geometry_flat_instances_and_negative_lights_are_reported(self):
+        """Each is left out with a warning, and the rest still renders."""
+        from rtsdf import sync
+        scene = bpy.context.scene
+        scene.render.engine = "RTSDF"
+        scene.render.resolution_percentage = 10
+        scene.rtsdf.samples = 1
+        # Geometry Nodes trees that output only points, or only curves.
+        for name, node_type, output in (("Cloud", "GeometryNodeMeshToPoints", "Points"),
+                                        ("Wire", "GeometryNodeMeshToCurve", "Curve")):
+            bpy.ops.mesh.primitive_plane_add(size=1.0, location=(1.5, 0.0, 1.0))
+            bpy.context.object.name = name
+            tree = bpy.data.node_groups.new(name, "GeometryNodeTree")
+            tree.inputs.new("NodeSocketGeometry", "Geometry")
+            tree.outputs.new("NodeSocketGeometry", "Geometry")
+            bpy.context.object.modifiers.new(name, "NODES").node_group = tree
+            convert = tree.nodes.new(node_type)
+            tree.links.new(tree.nodes.new("NodeGroupInput").outputs[0], convert.inputs["Mesh"])
+            tree.links.new(convert.outputs[output], tree.nodes.new("NodeGroupOutput").inputs[0])
+        # An object scaled flat, and a light of negative power.
+        bpy.ops.mesh.primitive_cube_add(size=0.5, location=(-1.5, 0.0, 1.0))
+        bpy.context.object.name = "Flat"
+        bpy.context.object.scale = (1.0, 0.0, 1.0)
+        light = bpy.data.lights.new("Negative", "POINT")
+        light.energy = -100.0
+        scene.collection.objects.link(bpy.data.objects.new("Negative", light))
+
+        data = sync.extract(bpy.context.evaluated_depsgraph_get())
+        warnings = " | ".join(data["warnings"])
+        for name in ("Cloud", "Wire", "Flat", "Negative"):
+            self.assertIn(f"'{name}'", warnings)
+        self.assertEqual(len(data["lights"]), len([o for o in scene.objects if o.type == "LIGHT"]) - 1)
+        bpy.ops.render.render()  # (warnings, no error: the rest renders)
 
     def test_no_camera_is_reported(self):
         scene = bpy.context.scene
