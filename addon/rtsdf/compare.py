@@ -36,8 +36,10 @@ def render_cycles(scene, samples, full_light, shadows):
             settings = scene.render.image_settings
             format_before = settings.file_format
             settings.file_format = "OPEN_EXR"
-            bpy.data.images["Render Result"].save_render(path)
-            settings.file_format = format_before
+            try:
+                bpy.data.images["Render Result"].save_render(path)
+            finally:  # (the user's output format, whatever the save did)
+                settings.file_format = format_before
             image = bpy.data.images.load(path)
             pixels = np.array(image.pixels[:], dtype=np.float32).reshape(image.size[1], image.size[0], 4)
             bpy.data.images.remove(image)
@@ -91,7 +93,7 @@ class RTSDF_OT_compare_cycles(bpy.types.Operator):
             start = time.perf_counter()
             out = session.render(sync.extract(context.evaluated_depsgraph_get()), scene.rtsdf.as_dict(), None, False)
             rtsdf_seconds = time.perf_counter() - start
-        except (sync.SceneError, RuntimeError) as e:
+        except (sync.SceneError, *native.errors()) as e:
             self.report({"ERROR"}, f"RTSDF: {e}")
             return {"CANCELLED"}
         rtsdf = out["combined"][..., :3]

@@ -76,7 +76,7 @@ class RTSDFRenderEngine(bpy.types.RenderEngine):
                 return not self.test_break()
 
             out = session.render(data, self.final_render_settings(scene), progress, scene.render.use_persistent_data)
-        except (sync.SceneError, RuntimeError) as e:  # (RuntimeError: the native core's: bad input, device, memory)
+        except (sync.SceneError, *native.errors()) as e:
             self.report({"ERROR"}, f"RTSDF: {e}")
             if shown["result"] is not None:
                 self.end_result(shown["result"], cancel=True)
@@ -137,14 +137,14 @@ class RTSDFRenderEngine(bpy.types.RenderEngine):
         try:
             self.sync_view(depsgraph)
             self.view_error = None
-        except (sync.SceneError, RuntimeError) as e:
+        except (sync.SceneError, *native.errors()) as e:
             self.view_error = str(e)
             print(f"RTSDF viewport: {e}")
 
     def sync_view(self, depsgraph):
         session, error = native.session()
         if session is None:
-            raise RuntimeError(error)
+            raise native.Unavailable(error)
         if self.viewport is None:
             self.viewport = session.viewport()
         first = self.signature is None
@@ -192,7 +192,7 @@ class RTSDFRenderEngine(bpy.types.RenderEngine):
                        temporal_reuse=settings.viewport_temporal_reuse)
         try:
             out = self.viewport.draw(sync.view_data(context.region_data, width, height, self.lighting), options)
-        except RuntimeError as e:
+        except native.errors() as e:
             self.view_error = str(e)
             self.update_stats("", f"RTSDF: {e}")
             print(f"RTSDF viewport: {e}")

@@ -7,6 +7,18 @@ _device = None
 _session = None
 
 
+class Unavailable(Exception):
+    """The native module or its Vulkan device cannot be had; the message says why."""
+
+
+def errors():
+    """The exceptions whose message is for the user: Unavailable and the native
+    core's rtsdf_native.Error (bad input, no device, out of memory), not
+    Blender's own RuntimeErrors."""
+    module, _ = load()
+    return (Unavailable,) if module is None else (Unavailable, module.Error)
+
+
 def load():
     """Returns (module, None) or (None, reason)."""
     global _module, _error
@@ -28,7 +40,7 @@ def device():
     if _device is None:
         try:
             _device = module.device_info()
-        except RuntimeError as e:
+        except module.Error as e:
             return None, str(e)
     return _device, None
 
@@ -43,6 +55,6 @@ def session():
     if _session is None:
         try:
             _session = module.Session()
-        except RuntimeError as e:
+        except module.Error as e:
             return None, str(e)
     return _session, None

@@ -181,6 +181,23 @@ class RTSDF_PT_field_view(RenderPanel, bpy.types.Panel):
         row.prop(settings, "field_view_height", text="Slice Height")
 
 
+class RTSDF_PT_object_visibility(RenderPanel, bpy.types.Panel):
+    """Object Properties > Visibility > Ray Visibility, as Cycles has it (its
+    own panel shows for Cycles only): what the object is seen by."""
+    bl_label = "Ray Visibility"
+    bl_context = "object"
+    bl_parent_id = "OBJECT_PT_visibility"
+
+    @classmethod
+    def poll(cls, context):
+        return context.engine in cls.COMPAT_ENGINES and context.object is not None
+
+    def draw(self, context):
+        column = self.split_layout().column(heading="Visible To")
+        column.prop(context.object, "visible_camera", text="Camera")
+        column.prop(context.object, "visible_shadow", text="Shadow")
+
+
 class RTSDF_PT_compare(RenderPanel, bpy.types.Panel):
     bl_label = "Compare with Cycles"
     bl_options = {"DEFAULT_CLOSED"}
@@ -201,7 +218,7 @@ class RTSDF_PT_compare(RenderPanel, bpy.types.Panel):
 
 classes = (RTSDF_OT_quality_preset, RTSDF_PT_quality_presets, RTSDF_OT_quality_preset_add, RTSDF_PT_sampling, RTSDF_PT_sampling_render,
            RTSDF_PT_sampling_viewport, RTSDF_PT_shadows, RTSDF_PT_fields, RTSDF_PT_advanced, RTSDF_PT_field_view,
-           RTSDF_PT_compare)
+           RTSDF_PT_compare, RTSDF_PT_object_visibility)
 
 
 def compatible_panels():

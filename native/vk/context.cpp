@@ -347,10 +347,8 @@ VKAPI_ATTR VkBool32 VKAPI_CALL Context::on_validation_message(VkDebugUtilsMessag
                                                               void* user) {
   auto* self = static_cast<Context*>(user);
   const char* level = (severity & VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT) ? "error" : "warning";
-  std::string message = std::string("Vulkan validation ") + level + ": " + (data->pMessage ? data->pMessage : "");
-  std::fprintf(stderr, "%s\n", message.c_str());
+  std::fprintf(stderr, "Vulkan validation %s: %s\n", level, data->pMessage ? data->pMessage : "");
   self->validation_messages_++;
-  self->validation_log_.push_back(message);
   return VK_FALSE;
 }
 

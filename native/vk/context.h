@@ -2,6 +2,7 @@
 // One Vulkan instance + device + compute/graphics queue, created headless.
 #include <volk.h>
 
+#include <atomic>
 #include <functional>
 #include <mutex>
 #include <string>
@@ -47,7 +48,6 @@ class Context {
   Context& operator=(const Context&) = delete;
 
   VkDevice device() const { return device_; }
-  VkPhysicalDevice physical_device() const { return physical_device_; }
   VkQueue queue() const { return queue_; }
   const DeviceInfo& info() const { return info_; }
   const VkPhysicalDeviceLimits& limits() const { return properties_.limits; }
@@ -61,8 +61,7 @@ class Context {
   void submit_and_wait(const std::function<void(VkCommandBuffer)>& record) const;
 
   // Validation messages (warnings and errors) seen since creation.
-  int validation_message_count() const { return validation_messages_; }
-  const std::vector<std::string>& validation_messages() const { return validation_log_; }
+  int validation_message_count() const { return validation_messages_.load(); }
 
   // Names of all devices the loader sees, without creating a device.
   static std::vector<DeviceInfo> list_devices();
@@ -88,8 +87,7 @@ class Context {
   VkPhysicalDeviceMemoryProperties memory_{};
   DeviceInfo info_;
   double timestamp_period_ns_ = 0.0;
-  int validation_messages_ = 0;
-  std::vector<std::string> validation_log_;
+  std::atomic<int> validation_messages_{0};  // (messages arrive on whichever thread submits)
 };
 
 }  // namespace rtsdf::vk

@@ -57,12 +57,6 @@ Resource Resource::storage_buffer(const Buffer& buffer) {
   return r;
 }
 
-Resource Resource::sampled_image(VkImageView view, VkSampler sampler) {
-  Resource r{VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER};
-  r.image = {sampler, view, VK_IMAGE_LAYOUT_GENERAL};
-  return r;
-}
-
 void Pipeline::create_layout(std::vector<VkDescriptorType> bindings, uint32_t push_bytes, VkShaderStageFlags stages) {
   stages_ = stages;
   std::vector<VkDescriptorSetLayoutBinding> layout_bindings;

@@ -27,7 +27,6 @@ struct Resource {
   VkDescriptorBufferInfo buffer{};
   static Resource storage_image(const Image& image);
   static Resource storage_buffer(const Buffer& buffer);
-  static Resource sampled_image(VkImageView view, VkSampler sampler);
 };
 
 // Render targets of a graphics pipeline: colour formats (cleared to zero,

@@ -41,7 +41,7 @@ class Panels(unittest.TestCase):
     def test_every_panel_polls_and_draws_without_errors(self):
         names = set(self.results["panels"])
         for expected in ("RTSDF_PT_sampling", "RTSDF_PT_shadows", "RTSDF_PT_fields", "RTSDF_PT_advanced",
-                         "RTSDF_PT_compare"):
+                         "RTSDF_PT_compare", "RTSDF_PT_object_visibility"):
             self.assertIn(expected, names)
         for name, panel in self.results["panels"].items():
             self.assertTrue(panel["polls"], name)
