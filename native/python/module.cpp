@@ -19,6 +19,38 @@ namespace py = pybind11;
 
 namespace {
 
+// Appends bytes that differ whenever `value` does: numpy arrays by their
+// dtype, shape and contents (their repr rounds, elides large arrays and
+// follows np.set_printoptions), dicts, lists and tuples item by item, and
+// anything else by its repr (exact for Python's numbers and strings).
+void append_fingerprint(std::string& out, py::handle value) {
+  if (py::isinstance<py::array>(value)) {
+    py::array array = py::array::ensure(value, py::array::c_style);
+    out += "array(" + py::str(array.dtype()).cast<std::string>();
+    for (py::ssize_t i = 0; i < array.ndim(); ++i) out += "," + std::to_string(array.shape(i));
+    out += "):";
+    out.append(static_cast<const char*>(array.data()), size_t(array.nbytes()));
+  } else if (py::isinstance<py::dict>(value)) {
+    out += "{";
+    for (auto item : py::reinterpret_borrow<py::dict>(value)) {
+      append_fingerprint(out, item.first);
+      out += ":";
+      append_fingerprint(out, item.second);
+      out += ",";
+    }
+    out += "}";
+  } else if (py::isinstance<py::list>(value) || py::isinstance<py::tuple>(value)) {
+    out += "[";
+    for (py::handle item : value) {
+      append_fingerprint(out, item);
+      out += ",";
+    }
+    out += "]";
+  } else {
+    out += py::repr(value).cast<std::string>();
+  }
+}
+
 py::dict describe(const rtsdf::vk::DeviceInfo& info) {
   py::dict d;
   d["name"] = info.name;
@@ -326,7 +358,9 @@ class Viewport {
     rtsdf::RenderSettings settings = settings_of(settings_desc);
     settings.keep_history = true;  // the paper's frame-to-frame reuse: the decay forgets what moved
     // What the image depends on besides the scene, to tell whether it changed.
-    const std::string key = py::repr(view_desc).cast<std::string>() + py::repr(settings_desc).cast<std::string>();
+    std::string key;
+    append_fingerprint(key, view_desc);
+    append_fingerprint(key, settings_desc);
     bool advanced = false;
     rtsdf::RenderOutput out;
     std::array<double, 3> draw_ms{};  // begin, frame, read

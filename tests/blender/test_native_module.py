@@ -44,6 +44,39 @@ class NativeModuleInBlender(unittest.TestCase):
         centre = tuple(n // 2 for n in d.shape)
         self.assertAlmostEqual(float(d[centre]) + result["beta"], 1.0, delta=1.0 * vs)
 
+    def test_a_viewport_sees_a_small_view_change_whatever_numpys_print_options(self):
+        # The viewport restarts its accumulation when the view changes; a camera
+        # moved by a hundred-thousandth of a unit is a change even where numpy
+        # prints two decimals (an add-on may set that for the whole process).
+        corners = np.array([[x, y, z] for z in (-1, 1) for y in (-1, 1) for x in (-1, 1)], np.float32)
+        faces = np.array([[0, 2, 1], [1, 2, 3], [4, 5, 6], [5, 7, 6], [0, 1, 4], [1, 5, 4],
+                          [2, 6, 3], [3, 6, 7], [0, 4, 2], [2, 4, 6], [1, 3, 5], [3, 7, 5]], np.uint32)
+        eye = np.eye(4, dtype=np.float32)
+        view_matrix = eye.copy()
+        view_matrix[2, 3] = -6.0
+        projection = np.array([[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, -1, -0.2], [0, 0, -1, 0]], np.float32)
+        scene = {"meshes": [{"positions": corners, "indices": faces}], "instances": [{"mesh": 0, "matrix": eye}],
+                 "lights": [], "ambient": (0.5, 0.5, 0.5), "width": 16, "height": 16,
+                 "camera": {"world_to_view": view_matrix, "projection": projection}}
+        viewport = rtsdf_native.Session().viewport()
+        viewport.sync(scene)
+        view = {key: scene[key] for key in ("camera", "lights", "ambient", "width", "height")}
+        settings = {"samples": 2, "coarse_resolution": 16, "fine_resolution": 32}
+        before = np.get_printoptions()
+        np.set_printoptions(precision=2)
+        try:
+            for _ in range(64):
+                if viewport.draw(view, settings)["converged"]:
+                    break
+            self.assertFalse(viewport.draw(view, settings)["advanced"], "converged: nothing more to do")
+            moved = dict(view, camera=dict(view["camera"], world_to_view=view_matrix.copy()))
+            moved["camera"]["world_to_view"][2, 3] -= 1e-5  # (-6.00001: numpy prints "-6.")
+            out = viewport.draw(moved, settings)
+            self.assertTrue(out["advanced"])
+            self.assertEqual(out["frames"], 1, "a new accumulation")
+        finally:
+            np.set_printoptions(**before)
+
     def test_viewport_fine_sdf_reads_back(self):
         # A 2-unit cube: the fine SDF just inside its face is negative, just outside it the distance to the face.
         corners = np.array([[x, y, z] for z in (-1, 1) for y in (-1, 1) for x in (-1, 1)], np.float32)
