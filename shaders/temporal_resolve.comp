@@ -119,12 +119,13 @@ void main() {
   ivec2 base = ivec2(floor(at));
   vec2 f = at - vec2(base);
   vec4 history = vec4(0.0);
-  float history_shadow = 0.0, history_samples = 1e30, weights = 0.0;
+  float history_shadow = 0.0, history_samples = 1e30, full_samples = 1e30, weights = 0.0;
   float history_nearest = kNothingHitDepth, history_farthest = 0.0;
   for (int k = 0; k < 4; ++k) {
     ivec2 corner = base + ivec2(k & 1, k >> 1);
     if (any(lessThan(corner, ivec2(0))) || any(greaterThanEqual(corner, pc.image.xy))) continue;
     vec4 before = imageLoad(history_passes, corner);
+    full_samples = min(full_samples, before.z);
     if (!same_depth(corner, motion.z)) {
       if (!near_depth(corner, motion.z)) continue;
       before.z = min(before.z, kNearbyHistorySamples);
@@ -173,13 +174,17 @@ void main() {
   // stays on screen where it was, out of any moved shadow and away from
   // what moved (whose sky it may share), is the converged still image; a new
   // jittered sample would only make it shimmer from frame to frame (what the
-  // still accumulation stops doing after its samples too).
-  bool settled = pc.settle.x == 1u && samples >= float(pc.image.w) && !shadow_moved &&
+  // still accumulation stops doing after its samples too). A silhouette's
+  // new sample may see a surface its history never did (the jitter goes on
+  // to offsets the still frames did not take); away from what moved, that is
+  // the jitter, not motion, so its full history counts here.
+  bool settled = pc.settle.x == 1u && min(full_samples, float(pc.image.w)) >= float(pc.image.w) && !shadow_moved &&
                  !(!background && near_change(position.xyz)) && all(lessThan(abs(at - vec2(pixel)), vec2(1e-3)));
   if (settled) w = 0.0, clipped = history.rgb, shadow_history = history_shadow;
   imageStore(resolved_color, pixel, vec4(mix(clipped, current.rgb, w), current.a));
   // History's depths, moved as this surface point moved in depth since.
   float moved = background ? 0.0 : passes.x - motion.z;
   imageStore(resolved_passes, pixel, vec4(min(passes.x, history_nearest + moved), mix(shadow_history, passes.y, w),
-                                          settled ? samples : samples + 1.0, max(passes.w, history_farthest + moved)));
+                                          settled ? float(pc.image.w) : samples + 1.0,
+                                          max(passes.w, history_farthest + moved)));
 }
