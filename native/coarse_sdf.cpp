@@ -40,7 +40,7 @@ void CoarseSdf::allocate(const GridSpec& grid) {
   seeds_ = vk::Image(context_, grid.dims, VK_FORMAT_R32_UINT, kGridUsage);
   flood_a_ = vk::Image(context_, grid.dims, VK_FORMAT_R32_UINT, kGridUsage);
   flood_b_ = vk::Image(context_, grid.dims, VK_FORMAT_R32_UINT, kGridUsage);
-  distance_ = vk::Image(context_, grid.dims, VK_FORMAT_R32_SFLOAT, kGridUsage | VK_IMAGE_USAGE_SAMPLED_BIT);
+  distance_ = vk::Image(context_, grid.dims, VK_FORMAT_R32_SFLOAT, kGridUsage);
   vk::make_general(context_, {&seeds_, &flood_a_, &flood_b_, &distance_});
 }
 

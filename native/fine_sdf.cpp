@@ -36,8 +36,7 @@ void FineSdf::allocate(const GridSpec& grid) {
   const size_t needed = grid.voxel_count() * kBytesPerTexel;
   if (needed > context_.device_local_heap_bytes() * 3 / 4)
     throw Error("the fine grid needs " + std::to_string(needed >> 20) + " MiB: lower the fine resolution");
-  const VkImageUsageFlags usage =
-      VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT | VK_IMAGE_USAGE_SAMPLED_BIT;
+  const VkImageUsageFlags usage = VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
   distance_ = vk::Image(context_, grid.dims, VK_FORMAT_R32_SFLOAT, usage);
   history_ = vk::Image(context_, grid.dims, VK_FORMAT_R32G32B32A32_SFLOAT, usage);
   trace_list_ = vk::Buffer(context_, (grid.voxel_count() + 1) * sizeof(uint32_t),
