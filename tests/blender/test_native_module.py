@@ -15,6 +15,20 @@ if native_dir:
 import rtsdf_native  # noqa: E402
 
 
+def cube_scene():
+    """A 2-unit cube at the origin, seen by a camera 6 units along +z looking down -z, 16x16 pixels."""
+    corners = np.array([[x, y, z] for z in (-1, 1) for y in (-1, 1) for x in (-1, 1)], np.float32)
+    faces = np.array([[0, 2, 1], [1, 2, 3], [4, 5, 6], [5, 7, 6], [0, 1, 4], [1, 5, 4],
+                      [2, 6, 3], [3, 6, 7], [0, 4, 2], [2, 4, 6], [1, 3, 5], [3, 7, 5]], np.uint32)
+    eye = np.eye(4, dtype=np.float32)
+    view_matrix = eye.copy()
+    view_matrix[2, 3] = -6.0
+    projection = np.array([[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, -1, -0.2], [0, 0, -1, 0]], np.float32)
+    return {"meshes": [{"positions": corners, "indices": faces}], "instances": [{"mesh": 0, "matrix": eye}],
+            "lights": [], "ambient": (0.5, 0.5, 0.5), "width": 16, "height": 16,
+            "camera": {"world_to_view": view_matrix, "projection": projection}}
+
+
 class NativeModuleInBlender(unittest.TestCase):
     def test_version_and_device(self):
         self.assertTrue(rtsdf_native.__version__)
@@ -48,16 +62,8 @@ class NativeModuleInBlender(unittest.TestCase):
         # The viewport restarts its accumulation when the view changes; a camera
         # moved by a hundred-thousandth of a unit is a change even where numpy
         # prints two decimals (an add-on may set that for the whole process).
-        corners = np.array([[x, y, z] for z in (-1, 1) for y in (-1, 1) for x in (-1, 1)], np.float32)
-        faces = np.array([[0, 2, 1], [1, 2, 3], [4, 5, 6], [5, 7, 6], [0, 1, 4], [1, 5, 4],
-                          [2, 6, 3], [3, 6, 7], [0, 4, 2], [2, 4, 6], [1, 3, 5], [3, 7, 5]], np.uint32)
-        eye = np.eye(4, dtype=np.float32)
-        view_matrix = eye.copy()
-        view_matrix[2, 3] = -6.0
-        projection = np.array([[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, -1, -0.2], [0, 0, -1, 0]], np.float32)
-        scene = {"meshes": [{"positions": corners, "indices": faces}], "instances": [{"mesh": 0, "matrix": eye}],
-                 "lights": [], "ambient": (0.5, 0.5, 0.5), "width": 16, "height": 16,
-                 "camera": {"world_to_view": view_matrix, "projection": projection}}
+        scene = cube_scene()
+        view_matrix = scene["camera"]["world_to_view"]
         viewport = rtsdf_native.Session().viewport()
         viewport.sync(scene)
         view = {key: scene[key] for key in ("camera", "lights", "ambient", "width", "height")}
@@ -79,19 +85,8 @@ class NativeModuleInBlender(unittest.TestCase):
 
     def test_viewport_fine_sdf_reads_back(self):
         # A 2-unit cube: the fine SDF just inside its face is negative, just outside it the distance to the face.
-        corners = np.array([[x, y, z] for z in (-1, 1) for y in (-1, 1) for x in (-1, 1)], np.float32)
-        faces = np.array([[0, 2, 1], [1, 2, 3], [4, 5, 6], [5, 7, 6], [0, 1, 4], [1, 5, 4],
-                          [2, 6, 3], [3, 6, 7], [0, 4, 2], [2, 4, 6], [1, 3, 5], [3, 7, 5]], np.uint32)
-        eye = np.eye(4, dtype=np.float32)
-        view_matrix = eye.copy()
-        view_matrix[2, 3] = -6.0  # camera 6 units along +z, looking down -z
-        scene = {"meshes": [{"positions": corners, "indices": faces}], "instances": [{"mesh": 0, "matrix": eye}],
-                 "lights": [], "ambient": (0.5, 0.5, 0.5), "width": 16, "height": 16,
-                 "camera": {"world_to_view": view_matrix,
-                            "projection": np.diag([1.0, 1.0, -1.0, 1.0]).astype(np.float32)}}
-        scene["camera"]["projection"][2, 3] = -0.2
-        scene["camera"]["projection"][3, 2] = -1.0
-        scene["camera"]["projection"][3, 3] = 0.0
+        scene = cube_scene()
+        eye = scene["instances"][0]["matrix"]
         viewport = rtsdf_native.Session().viewport()
         viewport.sync(scene)
         self.assertIsNone(viewport.fine_sdf())
