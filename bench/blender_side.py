@@ -167,12 +167,15 @@ def eevee():
 
 for blend, OUT in SCENES:
     os.makedirs(OUT, exist_ok=True)
+    error = os.path.join(OUT, MODE + ".error")
+    if os.path.exists(error):
+        os.remove(error)  # (an earlier run's, in a reused output directory)
     started = time.perf_counter()
     try:
         bpy.ops.wm.open_mainfile(filepath=blend, load_ui=False)
         {"prepare": prepare, "eevee": eevee}[MODE]()
     except Exception:  # (one broken scene must not cost the others their figures)
-        with open(os.path.join(OUT, MODE + ".error"), "w") as f:
+        with open(error, "w") as f:
             f.write(traceback.format_exc())
     with open(os.path.join(OUT, MODE + ".seconds"), "w") as f:
         f.write(f"{time.perf_counter() - started:.1f}\n")
