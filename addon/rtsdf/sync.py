@@ -521,9 +521,8 @@ def geometry(depsgraph, cache=None, stale=None, warnings=None):
     matrices = as_arrays(matrices)
     for instance, matrix in zip(instances, matrices):
         instance["matrix"] = matrix
-    flat = flattened(matrices)
-    for obj in {owners[i].name: owners[i] for i in np.flatnonzero(flat)}.values():
-        note(f"Object '{obj.name}' has instances scaled flat (to zero size along an axis): they cast no shadow "
+    for name in sorted({owners[i].name for i in np.flatnonzero(flattened(matrices))}):
+        note(f"Object '{name}' has instances scaled flat (to zero size along an axis): they cast no shadow "
              f"and show nothing")
     if cache is not None:
         for gone in set(cache) - set(mesh_index):  # (objects deleted, geometry evaluated anew)
