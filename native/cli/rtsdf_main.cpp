@@ -25,7 +25,7 @@ double ms_since(Clock::time_point start) {
 
 // The command bakes a static mesh over --frames frames. Tracing each band
 // texel every 4th frame costs a quarter per frame and, measured on the sample
-// (README), ends 32 frames both sooner in total and closer to the exact
+// (docs/algorithm.md), ends 32 frames both sooner in total and closer to the exact
 // distance than tracing every frame; its only cost, forgetting a moved
 // surface 4x slower, does not arise for a static mesh.
 rtsdf::FineTraceSettings static_bake_settings() {
