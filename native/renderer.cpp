@@ -182,7 +182,7 @@ void Renderer::validate(int width, int height, const RenderSettings& settings) c
   if (settings.shadow_max_steps < 1 || settings.shadow_max_steps > 4096) throw Error("shadow_max_steps must be 1 to 4096");
   if (!(settings.shadow_epsilon > 0.0f) || !(settings.max_step > 0.0f))
     throw Error("shadow_epsilon and max_step must be positive");
-  if (settings.shadow_map_size < 16 || settings.shadow_map_size > 8192) throw Error("shadow_map_size must be 16 to 8192");
+  if (settings.shadow_map_size < 64 || settings.shadow_map_size > 4096) throw Error("shadow_map_size must be 64 to 4096");
   if (settings.exact_rays < 0 || settings.exact_rays > 64) throw Error("exact_rays must be 0 (none) to 64");
   if (!(settings.field_budget_mb >= 1.0 && settings.field_budget_mb <= 1e7))
     throw Error("field_budget_mb must be 1 to 10^7 MiB");

@@ -98,9 +98,11 @@ class RTSDFSettings(bpy.types.PropertyGroup):
         name="Animation Samples", default=4, min=1, max=1024,
         description="Accumulation frames per frame of an animation render with Reuse Between Frames")
     sdf_updates: IntProperty(
-        name="SDF Updates", default=4, min=0, max=1024,
+        name="SDF Updates", default=0, min=0, max=4096,
         description="Fine-SDF updates in a final render, one in each of the first accumulation frames "
-                    "(0: every frame). A still frame's field is close to converged after a few")
+                    "(0: every frame for the whole-scene methods, four passes over the band for RTSDF's fields; "
+                    "as bench/run measures). Fewer: a faster render; a still frame's field is close to converged "
+                    "after a few")
 
     viewport_samples: IntProperty(
         name="Viewport Samples", default=16, min=1, max=1024,

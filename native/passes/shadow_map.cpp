@@ -204,7 +204,7 @@ ShadowMapPass::ShadowMapPass(const vk::Context& context)
 
 void ShadowMapPass::setup(const GpuScene& scene, const std::vector<Light>& lights, const glm::mat4& world_to_view,
                           const glm::mat4& projection, int size, float filter_radius) {
-  if (size < 16 || size > 8192) throw Error("shadow_map_size must be 16 to 8192");
+  if (size < 64 || size > 4096) throw Error("shadow_map_size must be 64 to 4096");
   tile_data_.clear();
   std::vector<gpu::ShadowLightTiles> ranges(std::max<size_t>(lights.size(), 1), gpu::ShadowLightTiles{});
   std::vector<std::vector<gpu::ShadowTile>> views(lights.size());

@@ -4,6 +4,7 @@
 #include <pybind11/stl.h>
 
 #include <array>
+#include <type_traits>
 #include <cstring>
 #include <chrono>
 #include <memory>
@@ -230,36 +231,55 @@ rtsdf::Camera camera_of(const py::dict& camera_desc) {
   return camera;
 }
 
+// The settings a Python dict can set, by key: one list that reads them
+// (settings_of) and reports their defaults (default_settings), so the
+// add-on's defaults can be checked against these.
+template <class Visit>
+void visit_settings(rtsdf::RenderSettings& settings, Visit&& visit) {
+  visit("shadow_map_size", settings.shadow_map_size);
+  visit("field_view_height", settings.field_view_height);
+  visit("exact_rays", settings.exact_rays);
+  visit("coarse_resolution", settings.coarse_resolution);
+  visit("fine_resolution", settings.fine_resolution);
+  visit("beta", settings.beta);
+  visit("trace_band", settings.fine.trace_band);
+  visit("decay", settings.fine.decay);
+  visit("rays_per_texel", settings.fine.rays_per_texel);
+  visit("interleave", settings.fine.interleave);
+  visit("shadow_epsilon", settings.shadow_epsilon);
+  visit("shadow_max_steps", settings.shadow_max_steps);
+  visit("max_step", settings.max_step);
+  visit("samples", settings.samples);
+  visit("filter_width", settings.filter_width);
+  visit("sdf_updates", settings.sdf_updates);
+  visit("grid_slack", settings.grid_slack);
+  visit("field_budget_mb", settings.field_budget_mb);
+  visit("quick_first_frame", settings.quick_first_frame);
+  visit("temporal_reuse", settings.temporal_reuse);
+  visit("history_samples", settings.history_samples);
+}
+
 rtsdf::RenderSettings settings_of(const py::dict& settings_desc) {
   rtsdf::RenderSettings settings;
   // "rtsdf", "rtsdf_world", "rt_only", "jfa_only", "csm_evsm", "csm_jitter" or "raytraced"; anything else is an rtsdf.Error.
   settings.shadow_method = rtsdf::parse_shadow_method(
       get<std::string>(settings_desc, "shadow_method", rtsdf::shadow_method_name(settings.shadow_method)));
-  settings.shadow_map_size = get<int>(settings_desc, "shadow_map_size", settings.shadow_map_size);
   // "none", "distance_slice", "march_steps", "field_resolution" or "exact_rays"; anything else is an rtsdf.Error.
   settings.field_view = rtsdf::parse_field_view(
       get<std::string>(settings_desc, "field_view", rtsdf::field_view_name(settings.field_view)));
-  settings.field_view_height = get<float>(settings_desc, "field_view_height", settings.field_view_height);
-  settings.exact_rays = get<int>(settings_desc, "exact_rays", settings.exact_rays);
-  settings.coarse_resolution = get<int>(settings_desc, "coarse_resolution", settings.coarse_resolution);
-  settings.fine_resolution = get<int>(settings_desc, "fine_resolution", settings.fine_resolution);
-  settings.beta = get<float>(settings_desc, "beta", settings.beta);
-  settings.fine.trace_band = get<float>(settings_desc, "trace_band", settings.fine.trace_band);
-  settings.fine.decay = get<float>(settings_desc, "decay", settings.fine.decay);
-  settings.fine.rays_per_texel = get<int>(settings_desc, "rays_per_texel", settings.fine.rays_per_texel);
-  settings.fine.interleave = get<int>(settings_desc, "interleave", settings.fine.interleave);
-  settings.shadow_epsilon = get<float>(settings_desc, "shadow_epsilon", settings.shadow_epsilon);
-  settings.shadow_max_steps = get<int>(settings_desc, "shadow_max_steps", settings.shadow_max_steps);
-  settings.max_step = get<float>(settings_desc, "max_step", settings.max_step);
-  settings.samples = get<int>(settings_desc, "samples", settings.samples);
-  settings.filter_width = get<float>(settings_desc, "filter_width", settings.filter_width);
-  settings.sdf_updates = get<int>(settings_desc, "sdf_updates", settings.sdf_updates);
-  settings.grid_slack = get<float>(settings_desc, "grid_slack", settings.grid_slack);
-  settings.field_budget_mb = get<double>(settings_desc, "field_budget_mb", settings.field_budget_mb);
-  settings.quick_first_frame = get<bool>(settings_desc, "quick_first_frame", settings.quick_first_frame);
-  settings.temporal_reuse = get<bool>(settings_desc, "temporal_reuse", settings.temporal_reuse);
-  settings.history_samples = get<int>(settings_desc, "history_samples", settings.history_samples);
+  visit_settings(settings, [&](const char* key, auto& value) {
+    value = get<std::remove_reference_t<decltype(value)>>(settings_desc, key, value);
+  });
   return settings;
+}
+
+py::dict default_settings() {
+  rtsdf::RenderSettings settings;
+  py::dict defaults;
+  defaults["shadow_method"] = rtsdf::shadow_method_name(settings.shadow_method);
+  defaults["field_view"] = rtsdf::field_view_name(settings.field_view);
+  visit_settings(settings, [&](const char* key, auto& value) { defaults[key] = value; });
+  return defaults;
 }
 
 py::dict timings_of(const rtsdf::RenderTimings& t) {
@@ -572,6 +592,8 @@ PYBIND11_MODULE(rtsdf_native, m) {
   m.doc() = "RTSDF native core: real-time signed distance fields on Vulkan";
   py::register_exception<rtsdf::Error>(m, "Error", PyExc_RuntimeError);
   m.attr("__version__") = rtsdf::kVersion;
+  m.def("default_settings", &default_settings,
+        "The render settings' defaults, by the keys Session.render and Viewport.draw read.");
   m.def("devices", [] {
     py::list out;
     for (const auto& info : rtsdf::vk::Context::list_devices()) out.append(describe(info));

@@ -49,6 +49,27 @@ class AddonInBlender(unittest.TestCase):
         self.assertTrue(engine.bl_use_eevee_viewport, "Material Preview runs EEVEE")
         self.assertFalse(engine.bl_use_preview, "no material preview of its own, so no stray preview panels")
 
+    def test_the_panels_defaults_are_the_native_ones(self):
+        # One default per setting: what a user gets in Blender is what the
+        # native API, the CLI and bench/run get when they leave it out.
+        # Exact Rays is the one deliberate difference: Blender's default is
+        # the recommended 4 (the Final preset's), the native default the
+        # paper's method (0), which bench/run sweeps from.
+        addon_utils.enable("rtsdf", default_set=True, handle_error=None)
+        import rtsdf
+        module, error = rtsdf.native.load()
+        self.assertIsNone(error)
+        native_defaults = module.default_settings()
+        properties = bpy.context.scene.rtsdf.bl_rna.properties
+        shared = [key for key in native_defaults if key in properties]
+        self.assertGreaterEqual(len(shared), 15, "the keys the panel and the native side share")
+        for key in shared:
+            with self.subTest(setting=key):
+                expected = 4 if key == "exact_rays" else native_defaults[key]
+                self.assertAlmostEqual(properties[key].default, expected, places=5) \
+                    if isinstance(expected, float) else self.assertEqual(properties[key].default, expected)
+        self.assertEqual(native_defaults["exact_rays"], 0)
+
     def test_manifest_agrees_with_bl_info(self):
         # Blender 4.2 installs an extension from its manifest; 3.x reads bl_info.
         import tomllib

@@ -141,6 +141,18 @@ class NativeModuleInBlender(unittest.TestCase):
         viewport.set_mesh_geometry(0, flipped)
         self.assertEqual(viewport.draw(view, settings)["stats"]["fields_regenerated"], 1)
 
+    def test_shadow_map_sizes_outside_the_panels_range_are_refused(self):
+        # The panel offers 64 to 4096 texels; the native side takes the same range.
+        scene = cube_scene()
+        viewport = rtsdf_native.Session().viewport()
+        viewport.sync(scene)
+        view = {key: scene[key] for key in ("camera", "lights", "ambient", "width", "height")}
+        for size in (64, 4096):
+            viewport.draw(view, {"shadow_method": "csm_evsm", "shadow_map_size": size, "samples": 1})
+        for size in (32, 8192):
+            with self.assertRaisesRegex(rtsdf_native.Error, "shadow_map_size must be 64 to 4096"):
+                viewport.draw(view, {"shadow_method": "csm_evsm", "shadow_map_size": size, "samples": 1})
+
     def test_bad_input_raises(self):
         with self.assertRaises(rtsdf_native.Error):
             rtsdf_native.coarse_sdf(np.zeros((3, 3), np.float32), np.zeros((0, 3), np.uint32), 32, 0.5)
