@@ -395,18 +395,23 @@ void Renderer::begin(GpuScene& scene, const Camera& camera, const std::vector<Li
   // Visibility: the fields the march reads, or the shadow maps. Distances
   // along the march are in voxels of the field nearest each sample.
   push_ = {};
-  push_.visibility = glm::uvec4(gpu::kVisibilitySignedSdf, 0u, march_.instance_count(), uint32_t(settings.shadow_max_steps));
-  push_.march = glm::vec4(settings.shadow_epsilon, settings.max_step, 1.0f, 0.0f);
-  push_.field_reach = glm::vec4(settings.max_step * march_.largest_voxel(), 0.0f, 0.0f, 0.0f);
-  push_.surface = glm::vec4(0.25f, 0.0f, 0.0f, 0.0f);
-  push_.debug = glm::vec4(float(settings.field_view), settings.field_view_height, 0.0f, 0.0f);
+  push_.visibility_mode = gpu::kVisibilitySignedSdf;
+  push_.field_instances = march_.instance_count();
+  push_.max_march_steps = uint32_t(settings.shadow_max_steps);
+  push_.shadow_epsilon = settings.shadow_epsilon;
+  push_.max_step = settings.max_step;
+  push_.receiver_clearance = 1.0f;
+  push_.field_reach = settings.max_step * march_.largest_voxel();
+  push_.caster_offset = 0.25f;
+  push_.field_view = uint32_t(settings.field_view);
+  push_.field_view_height = settings.field_view_height;
   switch (settings.shadow_method) {
     case ShadowMethod::Rtsdf:
     case ShadowMethod::RtsdfWorld:
     case ShadowMethod::RtOnly:
       if (settings.exact_rays > 0 && has_casters_) {
-        push_.visibility.x = gpu::kVisibilityHybrid;
-        push_.surface.z = float(settings.exact_rays);
+        push_.visibility_mode = gpu::kVisibilityHybrid;
+        push_.exact_rays = uint32_t(settings.exact_rays);
         scene.ray_structures();  // (built now, not in a frame)
       }
       break;
@@ -414,8 +419,8 @@ void Renderer::begin(GpuScene& scene, const Camera& camera, const std::vector<Li
       // The unsigned field's surfaces are shells epsilon + beta thick: a
       // caster's march starts outside its own shell (with a voxel to spare
       // for the flood's quantization), or its lit side would shadow itself.
-      push_.visibility.x = gpu::kVisibilityUnsignedSdf;
-      push_.surface.x = settings.shadow_epsilon + settings.beta + 1.0f;
+      push_.visibility_mode = gpu::kVisibilityUnsignedSdf;
+      push_.caster_offset = settings.shadow_epsilon + settings.beta + 1.0f;
       break;
     case ShadowMethod::CsmEvsm:
     case ShadowMethod::CsmJitter: {
@@ -425,16 +430,18 @@ void Renderer::begin(GpuScene& scene, const Camera& camera, const std::vector<Li
       shadow_map_lights_ = lights;
       shadow_map_camera_ = camera;
       shadow_maps_->setup(scene, lights, camera.world_to_view, camera.projection, settings.shadow_map_size, filter);
-      push_.visibility.x = gpu::kVisibilityShadowMaps;
-      push_.visibility.y = uint32_t(shadow_maps_->tile_size());
-      push_.surface = glm::vec4(0.0f, 1.0f, 0.0f, 0.0f);  // a texel off their own depth in the maps
-      push_.evsm = glm::vec4(ShadowMapPass::kPositiveExponent, ShadowMapPass::kNegativeExponent,
-                             ShadowMapPass::kLightBleedingReduction, filter);
+      push_.visibility_mode = gpu::kVisibilityShadowMaps;
+      push_.shadow_map_tile_texels = uint32_t(shadow_maps_->tile_size());
+      push_.caster_offset = 0.0f;
+      push_.shadow_map_offset = 1.0f;  // a texel off their own depth in the maps
+      push_.evsm_exponents = glm::vec2(ShadowMapPass::kPositiveExponent, ShadowMapPass::kNegativeExponent);
+      push_.light_bleeding_reduction = ShadowMapPass::kLightBleedingReduction;
+      push_.map_filter_texels = filter;
       break;
     }
     case ShadowMethod::RayTraced:
-      push_.visibility.x = gpu::kVisibilityRayTraced;
-      push_.surface.x = 0.0f;  // (rays start off the surface on their own)
+      push_.visibility_mode = gpu::kVisibilityRayTraced;
+      push_.caster_offset = 0.0f;  // (rays start off the surface on their own)
       break;
   }
   shadow_map_renders_ = 0;
@@ -487,17 +494,19 @@ void Renderer::add_frame() {
                                                                    2.0f * jitter.y / float(height_), 0.0f));
   frame_data_.world_to_clip = shift * world_to_clip_;
   std::memcpy(frame_buffer_.mapped(), &frame_data_, sizeof frame_data_);
-  push_.image = glm::ivec4(width_, height_, light_count_, frame_);
-  push_.sequence = glm::uvec4(sequence_, 0u, 0u, 0u);
+  push_.image_size = glm::ivec2(width_, height_);
+  push_.light_count = light_count_;
+  push_.accumulation_frame = frame_;
+  push_.sequence = sequence_;
   const ShadowMapPass* shadow_maps = uses_shadow_maps(settings_.shadow_method) ? shadow_maps_.get() : nullptr;
   const bool traces_rays =
-      push_.visibility.x == gpu::kVisibilityRayTraced || push_.visibility.x == gpu::kVisibilityHybrid;
+      push_.visibility_mode == gpu::kVisibilityRayTraced || push_.visibility_mode == gpu::kVisibilityHybrid;
   const GpuScene::RayStructures* rays = traces_rays && has_casters_ ? &scene_->ray_structures() : nullptr;
   context_.submit_and_wait([&](VkCommandBuffer cmd) {
     shading_timer_.begin(cmd);
     gbuffer_.record(cmd, *scene_, frame_buffer_, field_voxels_, previous_transforms_);
     shading_timer_.mark(cmd, "gbuffer");
-    const bool march_sky = push_.visibility.x != gpu::kVisibilityShadowMaps &&
+    const bool march_sky = push_.visibility_mode != gpu::kVisibilityShadowMaps &&
                            glm::dot(glm::vec3(frame_data_.ambient), glm::vec3(frame_data_.ambient)) > 0.0f;
     const bool share_lights = settings_.quick_first_frame && frame_ == 0;
     shade_.record(cmd, gbuffer_, march_, shadow_maps, rays, light_buffer_, frame_buffer_, accum_color_, accum_passes_,

@@ -26,7 +26,7 @@ vec3 heat_color(float t) {
 // Pixel centre's ray: where it leaves the near plane and where it is headed
 // (perspective or orthographic alike).
 void camera_ray(ivec2 pixel, out vec3 origin, out vec3 dir) {
-  vec2 ndc = (vec2(pixel) + 0.5) / vec2(pc.image.xy) * 2.0 - 1.0;
+  vec2 ndc = (vec2(pixel) + 0.5) / vec2(pc.image_size) * 2.0 - 1.0;
   mat4 clip_to_world = inverse(frame.steady_world_to_clip);
   vec4 near = clip_to_world * vec4(ndc, 0.0, 1.0), far = clip_to_world * vec4(ndc, 1.0, 1.0);
   origin = near.xyz / near.w;
@@ -43,10 +43,10 @@ vec3 distance_slice_color(ivec2 pixel, vec3 shaded) {
   vec3 origin, dir;
   camera_ray(pixel, origin, dir);
   // A section: what lies between the camera and the plane is cut away.
-  float t = abs(dir.z) > 1e-6 ? (pc.debug.y - origin.z) / dir.z : -1.0;
+  float t = abs(dir.z) > 1e-6 ? (pc.field_view_height - origin.z) / dir.z : -1.0;
   if (t <= 0.0) return 0.35 * shaded;  // (the plane is behind the camera)
   vec3 p = origin + t * dir;
-  int count = pc.visibility.z == 0u ? 0 : gather_fields(p, vec3(1.0), 0.0, 0.0, pc.field_reach.x);
+  int count = pc.field_instances == 0u ? 0 : gather_fields(p, vec3(1.0), 0.0, 0.0, pc.field_reach);
   vec3 d = nearby_distance(p, count < 0 ? RTSDF_MAX_NEARBY_FIELDS : count);
   if (min(d.x, d.y) >= kFarAway) return 0.35 * shaded;  // (no field near)
   float voxels = min(d.x, d.y) / max(d.z, 1e-12);
@@ -67,7 +67,7 @@ vec3 march_steps_color(ivec2 pixel) {
   const int kMostSteps = 256;
   vec3 origin, dir;
   camera_ray(pixel, origin, dir);
-  int count = pc.visibility.z == 0u ? 0 : gather_fields(origin, 1.0 / dir, 0.0, kFarAway, 0.0);
+  int count = pc.field_instances == 0u ? 0 : gather_fields(origin, 1.0 / dir, 0.0, kFarAway, 0.0);
   if (count == 0) return vec3(0.05);  // (no field on the ray)
   count = count < 0 ? RTSDF_MAX_NEARBY_FIELDS : count;
   float t = 0.0;
@@ -87,7 +87,7 @@ vec3 field_resolution_color(vec4 position, float receiver_voxel, vec3 shaded) {
   if (receiver_voxel <= 0.0) return vec3(0.5) * brightness;  // (in no field: a receiver only)
   // The world width of a pixel at the surface: one pixel over in clip space, back to the world.
   vec4 clip = frame.steady_world_to_clip * vec4(position.xyz, 1.0);
-  vec4 beside = inverse(frame.steady_world_to_clip) * (clip + vec4(2.0 * clip.w / float(pc.image.x), 0.0, 0.0, 0.0));
+  vec4 beside = inverse(frame.steady_world_to_clip) * (clip + vec4(2.0 * clip.w / float(pc.image_size.x), 0.0, 0.0, 0.0));
   float footprint = max(distance(beside.xyz / beside.w, position.xyz), 1e-12);
   return heat_color(0.5 + 0.125 * log2(receiver_voxel / footprint)) * brightness;
 }

@@ -20,18 +20,18 @@ void main() {
   if (position.w <= 0.0) {
     imageStore(quad_samples, quad, vec4(0.0, 0.0, 0.0, -1.0));
     if (kShadeStage == kShadeShared)
-      for (int l = 0; l < pc.image.z; ++l) quad_lights[l * quad_count() + quad_index] = -1.0;
+      for (int l = 0; l < pc.light_count; ++l) quad_lights[l * quad_count() + quad_index] = -1.0;
     return;
   }
   vec3 p = position.xyz;
   vec3 n = facing_normal(pixel, p);
   float receiver_voxel = imageLoad(g_albedo, pixel).a;
-  float jitter = hash(uvec3(pixel, pc.sequence.x));
+  float jitter = hash(uvec3(pixel, pc.sequence));
   vec3 origin = march_origin(p, n, receiver_voxel);
   float sky = wants_sky() ? world_light_visibility(origin, n, receiver_voxel, jitter, pixel) : 1.0;
   imageStore(quad_samples, quad, vec4(n, sky));
   if (kShadeStage != kShadeShared) return;
-  for (int l = 0; l < pc.image.z; ++l) {
+  for (int l = 0; l < pc.light_count; ++l) {
     LightPath path = light_path(l, p, origin);
     float v = -1.0;
     if (faces_light(path, n)) v = march_light(path, origin, n, receiver_voxel, jitter, pixel);

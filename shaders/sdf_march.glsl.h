@@ -33,8 +33,8 @@ vec3 disk_direction(vec3 dir, float tan_radius, vec2 start, uint index) {
 vec3 sky_direction(vec3 n, ivec2 pixel, uint k) {
   vec3 t, b;
   tangent_frame(n, t, b);
-  float u1 = hash(uvec3(pixel, pc.sequence.x * 4u + 2u * k + 1u));
-  float u2 = hash(uvec3(pixel.yx, pc.sequence.x * 4u + 2u * k + 2u));
+  float u1 = hash(uvec3(pixel, pc.sequence * 4u + 2u * k + 1u));
+  float u2 = hash(uvec3(pixel.yx, pc.sequence * 4u + 2u * k + 2u));
   float r = sqrt(u1), phi = 6.2831853 * u2;
   return normalize(t * (r * cos(phi)) + b * (r * sin(phi)) + n * sqrt(max(1.0 - u1, 0.0)));
 }
@@ -106,7 +106,7 @@ vec3 surface_normal_at(vec3 origin, vec3 dir, vec3 inv_dir, float t, float voxel
 float visibility(vec3 origin, vec3 dir, float t_min, float t_max, float tan_radius, float jitter, float escape,
                  vec3 own_normal, bool axis_blocks, bool classify, out bool crossed_sheet) {
   crossed_sheet = false;
-  if (pc.visibility.z == 0u) return 1.0;
+  if (pc.field_instances == 0u) return 1.0;
   vec3 inv_dir = safe_inverse(dir);
   // Only inside a field's box is a clearance known (field_distance): clip to
   // the box of all fields.
@@ -129,12 +129,12 @@ float visibility(vec3 origin, vec3 dir, float t_min, float t_max, float tan_radi
   int nearby = 0;
   FieldInstance only_field;  // when nearby is 1: that field, and the ray in its voxel space
   vec3 field_origin, field_dir;
-  for (int i = 0; i < int(pc.visibility.w) && t < t_max; ++i) {
+  for (int i = 0; i < int(pc.max_march_steps) && t < t_max; ++i) {
     if (t >= segment_end) {
       segment_end = t_max;
       for (int halvings = 0; halvings < 8; ++halvings) {
-        nearby = gather_fields(origin, inv_dir, t, segment_end, pc.field_reach.x);
-        if (nearby >= 0 || segment_end - t < pc.field_reach.x) break;
+        nearby = gather_fields(origin, inv_dir, t, segment_end, pc.field_reach);
+        if (nearby >= 0 || segment_end - t < pc.field_reach) break;
         segment_end = t + 0.5 * (segment_end - t);
       }
       if (nearby < 0) nearby = RTSDF_MAX_NEARBY_FIELDS;  // (too many even close by: the first that fit)
@@ -155,7 +155,7 @@ float visibility(vec3 origin, vec3 dir, float t_min, float t_max, float tan_radi
     vec3 sample_ = nearby == 1 ? field_distance_at(only_field, field_origin + field_dir * t)
                                : nearby_distance(origin + dir * t, nearby);
     float h = sample_.y, voxel = sample_.z;
-    float epsilon = pc.march.x * voxel, max_step = pc.march.y * voxel;
+    float epsilon = pc.shadow_epsilon * voxel, max_step = pc.max_step * voxel;
     if (!jittered) {
       // Jittered by up to one epsilon along the light each frame: with the sample
       // positions moving, step patterns (banding) average out over accumulation.
@@ -266,7 +266,7 @@ float light_visibility(vec3 origin, vec3 dir, float t_min, float t_max, float ta
     v = visibility(origin, march_dir, t_min, t_max, cone, jitter, escape, vec3(0.0), false, false, crossed_sheet);
     if (!crossed_sheet || tan_radius <= 0.0) break;
     march_dir = disk_direction(dir, tan_radius, vec2(hash(uvec3(pixel, 0x1157u)), hash(uvec3(pixel.yx, 0x1158u))),
-                               pc.sequence.x);
+                               pc.sequence);
     cone = 1e-3 * tan_radius;
   }
   return v;
@@ -301,7 +301,7 @@ float sky_visibility(vec3 origin, vec3 n, float receiver_voxel, float jitter, iv
     vec3 dir = sky_direction(n, pixel, k);
     if (enters_sky_blocker(origin, dir)) continue;
     bool crossed_sheet;  // (never with axis_blocks)
-    sum += visibility(origin, dir, pc.march.z * receiver_voxel, 1e10, 0.35, jitter, 2.0 * receiver_voxel,
+    sum += visibility(origin, dir, pc.receiver_clearance * receiver_voxel, 1e10, 0.35, jitter, 2.0 * receiver_voxel,
                       in_sdf ? n : vec3(0.0), true, false, crossed_sheet);
   }
   return 0.5 * sum;

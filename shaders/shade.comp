@@ -66,7 +66,7 @@ void main() {
     pixel = ivec2(fill_pixels[index] & 0xffffu, fill_pixels[index] >> 16u);
   } else {
     pixel = ivec2(gl_GlobalInvocationID.xy);
-    if (any(greaterThanEqual(pixel, pc.image.xy))) return;
+    if (any(greaterThanEqual(pixel, pc.image_size))) return;
   }
   vec4 position = imageLoad(g_position, pixel);
   vec3 color = frame.ambient.rgb;
@@ -84,13 +84,13 @@ void main() {
     bool in_sdf = receiver_voxel > 0.0;
     depth = dot(p - frame.camera_position.xyz, frame.camera_forward.xyz);
     float lit = 0.0, unshadowed = 0.0;
-    float jitter = hash(uvec3(pixel, pc.sequence.x));
+    float jitter = hash(uvec3(pixel, pc.sequence));
     // The march follows the ray from the shading point itself (an offset along
     // the normal would move every shadow edge inward by offset * tan(angle)).
-    // On a surface that is in the SDF it starts pc.march.z voxels along the ray, so
+    // On a surface that is in the SDF it starts pc.receiver_clearance voxels along the ray, so
     // the receiver does not shadow itself; a surface left out of the SDF (a
     // ground that cannot shadow anything) starts at once, so contact shadows
-    // reach the objects resting on it. A nudge along the normal (pc.surface.x
+    // reach the objects resting on it. A nudge along the normal (pc.caster_offset
     // voxels: a quarter of a fine SDF's, more for the thick shell of the
     // unsigned coarse one) keeps a caster's march off its own surface.
     vec3 origin = march_origin(p, n, receiver_voxel);
@@ -104,7 +104,7 @@ void main() {
       if (sky < 0.0) sky = world_light_visibility(origin, n, receiver_voxel, jitter, pixel);
     }
     color = albedo * frame.ambient.rgb * sky;
-    for (int l = 0; l < pc.image.z; ++l) {
+    for (int l = 0; l < pc.light_count; ++l) {
       LightPath path = light_path(l, p, origin);
       if (!faces_light(path, n)) continue;
       float v;
@@ -129,15 +129,15 @@ void main() {
     }
     shadow = unshadowed > 0.0 ? lit / unshadowed : 1.0;
   }
-  uint view = uint(pc.debug.x);
+  uint view = uint(pc.field_view);
   if (view == kDebugDistanceSlice) color = distance_slice_color(pixel, color);
   if (view == kDebugMarchSteps) color = march_steps_color(pixel);
   if (view == kDebugFieldResolution) color = field_resolution_color(position, imageLoad(g_albedo, pixel).a, color);
   if (view == kDebugExactRays && traced_exactly) color = mix(color, vec3(1.0, 0.0, 1.0), 0.6);
   // A running mean over the samples in each pixel: the accumulation frames
   // since begin(), and the reprojected history's (temporal_resolve.comp).
-  vec4 previous_color = pc.image.w == 0 ? vec4(0.0) : imageLoad(accum_color, pixel);
-  vec4 previous_passes = pc.image.w == 0 ? vec4(0.0) : imageLoad(accum_passes, pixel);
+  vec4 previous_color = pc.accumulation_frame == 0 ? vec4(0.0) : imageLoad(accum_color, pixel);
+  vec4 previous_passes = pc.accumulation_frame == 0 ? vec4(0.0) : imageLoad(accum_passes, pixel);
   float samples = previous_passes.z, w = 1.0 / (samples + 1.0);
   imageStore(accum_color, pixel, mix(previous_color, vec4(color, position.w > 0.0 && !holdout ? 1.0 : 0.0), w));
   // The depths the pixel's samples saw, nearest to farthest: a pixel on a

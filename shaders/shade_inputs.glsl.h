@@ -8,7 +8,7 @@ layout(binding = 2, rgba32f) uniform readonly image2D g_albedo;
 layout(std430, binding = 4) readonly buffer Lights { GpuLight lights[]; };
 layout(std430, binding = 5) readonly buffer Frame { FrameData frame; };
 layout(push_constant) uniform Push { ShadePush pc; };
-// The visibility this pipeline computes (kVisibility*; as pc.visibility.x),
+// The visibility this pipeline computes (kVisibility*; as pc.visibility_mode),
 // and its part of the shading (kShade*): constants, so that the compiler
 // drops the code of the other methods and parts. (Lavapipe runs both sides
 // of a branch under a mask: dead code costs every pixel.)
@@ -46,7 +46,7 @@ layout(std430, binding = 14) buffer FillList {
   uint fill_pixels[];
 };
 
-ivec2 quad_grid() { return (pc.image.xy + 1) / 2; }
+ivec2 quad_grid() { return (pc.image_size + 1) / 2; }
 int quad_count() { return quad_grid().x * quad_grid().y; }
 
 // Whether the world light is marched at all (the same for every pixel).
@@ -54,8 +54,8 @@ bool wants_sky() { return kVisibilityMode != kVisibilityShadowMaps && dot(frame.
 
 // The pixel a quad's sample is marched for this frame.
 ivec2 quad_sample_pixel(ivec2 quad) {
-  int frame_index = pc.image.w;
-  return min(2 * quad + ivec2(frame_index & 1, (frame_index >> 1) & 1), pc.image.xy - 1);
+  int frame_index = pc.accumulation_frame;
+  return min(2 * quad + ivec2(frame_index & 1, (frame_index >> 1) & 1), pc.image_size - 1);
 }
 
 // The camera-facing side's normal at a G-buffer pixel.
@@ -68,7 +68,7 @@ vec3 facing_normal(ivec2 pixel, vec3 p) {
 // Where the march starts off a surface at p (normal n) held by a field of
 // world voxel receiver_voxel (0: in none): a nudge along the normal keeps a
 // caster's march off its own surface (see shade.comp's main).
-vec3 march_origin(vec3 p, vec3 n, float receiver_voxel) { return p + n * (pc.surface.x * receiver_voxel); }
+vec3 march_origin(vec3 p, vec3 n, float receiver_voxel) { return p + n * (pc.caster_offset * receiver_voxel); }
 
 // How far off a sample's tangent plane a point may lie and still be on its
 // surface: a thousandth of its distance to the camera's plane.
@@ -139,7 +139,7 @@ float rays_to_light(LightPath path, vec3 p, vec3 n, ivec2 pixel, int count) {
   vec2 start = vec2(hash(uvec3(pixel, 0x2000u + seed)), hash(uvec3(pixel.yx, 0x3000u + seed)));
   float reached = 0.0;
   for (int k = 0; k < count; ++k) {
-    vec3 dir = disk_direction(path.march_dir, path.tan_radius, start, pc.sequence.x * uint(count) + uint(k));
+    vec3 dir = disk_direction(path.march_dir, path.tan_radius, start, pc.sequence * uint(count) + uint(k));
     if (ray_reaches(p, n, dir, path.t_max)) reached += 1.0;
   }
   return reached / float(count);
@@ -147,11 +147,11 @@ float rays_to_light(LightPath path, vec3 p, vec3 n, ivec2 pixel, int count) {
 
 // The share of a light reaching a receiver (held by a field of world voxel
 // receiver_voxel, 0: in none; of normal n) from its march start `origin`: the
-// march starts pc.march.z of its voxels along the ray and escapes its own
+// march starts pc.receiver_clearance of its voxels along the ray and escapes its own
 // shell within two. raytraced: one ray towards a point of the light's disk,
 // new every frame (its 0 or 1 averages over accumulation frames to the share).
 // Hybrid: the march only tells lit from shadowed where the field is sure
-// (visibility's classify); where it is not, pc.surface.z rays decide, as
+// (visibility's classify); where it is not, pc.exact_rays rays decide, as
 // raytraced's do (AMD's hybrid shadows trace rays alike, where the shadow
 // map cannot tell).
 // Whether this pixel's shading traced rays where its field was unsure (the exact_rays field view).
@@ -159,15 +159,15 @@ bool traced_exactly = false;
 
 float march_light(LightPath path, vec3 origin, vec3 n, float receiver_voxel, float jitter, ivec2 pixel) {
   if (kVisibilityMode == kVisibilityRayTraced) return rays_to_light(path, origin, n, pixel, 1);
-  float t_min = pc.march.z * receiver_voxel, escape = 2.0 * receiver_voxel;
+  float t_min = pc.receiver_clearance * receiver_voxel, escape = 2.0 * receiver_voxel;
   if (kVisibilityMode == kVisibilityHybrid) {
     bool crossed_sheet;  // (never when classifying)
     float v = visibility(origin, path.march_dir, t_min, path.t_max, path.tan_radius, jitter, escape, n, false, true,
                          crossed_sheet);
     if (v >= 0.0) return v;
-    vec3 p = origin - n * (pc.surface.x * receiver_voxel);  // (the rays start at the surface itself)
+    vec3 p = origin - n * (pc.caster_offset * receiver_voxel);  // (the rays start at the surface itself)
     traced_exactly = true;
-    return rays_to_light(path, p, n, pixel, int(pc.surface.z));
+    return rays_to_light(path, p, n, pixel, int(pc.exact_rays));
   }
   return light_visibility(origin, path.march_dir, t_min, path.t_max, path.tan_radius, jitter, escape, pixel);
 }

@@ -3,7 +3,7 @@
 // - csm_evsm: the disk is as wide as the penumbra at this receiver, from the
 //   mean depth of the blockers a first search finds (PCSS, Fernando 2005);
 // - csm_jitter: depth tests (PCF) over a fixed disk of about a texel
-//   (pc.evsm.w) of a sharp map whose origin moves over the light every
+//   (pc.map_filter_texels) of a sharp map whose origin moves over the light every
 //   frame: the frames' mean is the penumbra.
 // The disks turn with the pixel and the frame, so accumulation frames fill them in.
 // Needs `pc` (ShadePush) declared before it.
@@ -19,7 +19,7 @@ const float kReceiverBias = 1.5;  // texels' widths of depth a receiver may lie 
 
 // Bilinear sample of a tile's moments at `texel` (continuous, 0 to size across the tile).
 vec4 shadow_moments(ShadowTile tile, vec2 texel) {
-  int last = int(pc.visibility.y) - 1;
+  int last = int(pc.shadow_map_tile_texels) - 1;
   vec2 q = clamp(texel - 0.5, vec2(0.0), vec2(last));
   ivec2 i0 = ivec2(floor(q)), i1 = min(i0 + 1, ivec2(last));
   vec2 f = q - vec2(i0);
@@ -32,8 +32,8 @@ vec4 shadow_moments(ShadowTile tile, vec2 texel) {
 // The view depth (world units) of the nearest caster at a texel, unfiltered:
 // the positive warp inverted.
 float caster_depth(ShadowTile tile, vec2 texel) {
-  ivec2 q = clamp(ivec2(floor(texel)), ivec2(0), ivec2(int(pc.visibility.y) - 1));
-  float x = log(max(imageLoad(shadow_atlas, tile.atlas.xy + q).x, 1e-30)) / pc.evsm.x;  // in [-1, 1]
+  ivec2 q = clamp(ivec2(floor(texel)), ivec2(0), ivec2(int(pc.shadow_map_tile_texels) - 1));
+  float x = log(max(imageLoad(shadow_atlas, tile.atlas.xy + q).x, 1e-30)) / pc.evsm_exponents.x;  // in [-1, 1]
   return tile.depth_range.x + 0.5 * (x + 1.0) / tile.depth_range.y;
 }
 
@@ -42,7 +42,7 @@ float caster_depth(ShadowTile tile, vec2 texel) {
 // were not drawn).
 vec4 tile_position(ShadowTile tile, vec3 p) {
   vec4 clip = tile.world_to_clip * vec4(p, 1.0);
-  float size = float(pc.visibility.y), margin = float(tile.atlas.z);
+  float size = float(pc.shadow_map_tile_texels), margin = float(tile.atlas.z);
   vec2 texel = (clip.xy / max(clip.w, 1e-20) * 0.5 + 0.5) * size;
   float depth = dot(tile.depth_axis.xyz, p) + tile.depth_axis.w;
   bool inside = clip.w > 0.0 && all(greaterThanEqual(texel, vec2(margin))) &&
@@ -87,14 +87,14 @@ float shadow_map_visibility(int light, vec3 p, vec3 n, vec3 to_light, bool casts
     vec4 at = tile_position(tile, p);
     if (at.w < 0.0) continue;
     float texel_world = tile.depth_range.z + tile.depth_range.w * max(at.z, 0.0);
-    if (casts) at = tile_position(tile, p + n * (pc.surface.y * texel_world));
+    if (casts) at = tile_position(tile, p + n * (pc.shadow_map_offset * texel_world));
     float reach = float(tile.atlas.z - 1);
     vec2 slope = receiver_slope(tile, n, texel_world);
-    if (pc.evsm.w > 0.0) {
+    if (pc.map_filter_texels > 0.0) {
       // csm_jitter: percentage-closer filtering of the sharp map.
       float lit = 0.0;
       for (int k = 0; k < kFilterTaps; ++k) {
-        vec2 offset = pc.evsm.w * disk_tap(k, kFilterTaps, jitter);
+        vec2 offset = pc.map_filter_texels * disk_tap(k, kFilterTaps, jitter);
         lit += caster_depth(tile, at.xy + offset) < at.z + dot(slope, offset) - kReceiverBias * texel_world ? 0.0 : 1.0;
       }
       return lit / float(kFilterTaps);
@@ -115,15 +115,15 @@ float shadow_map_visibility(int light, vec3 p, vec3 n, vec3 to_light, bool casts
     vec4 moments = vec4(0.0);
     for (int k = 0; k < kFilterTaps; ++k) moments += shadow_moments(tile, at.xy + radius * disk_tap(k, kFilterTaps, jitter));
     moments /= float(kFilterTaps);
-    vec2 warped = evsm_warp((at.z - tile.depth_range.x) * tile.depth_range.y, pc.evsm.xy);
+    vec2 warped = evsm_warp((at.z - tile.depth_range.x) * tile.depth_range.y, pc.evsm_exponents);
     // The least variance: what a depth error of half a texel's width would
     // give (d warp / d world = c |warp| dx/d world, dx/d world = 2 / range).
-    vec2 spread = pc.evsm.xy * abs(warped) * (tile.depth_range.y * texel_world);
+    vec2 spread = pc.evsm_exponents * abs(warped) * (tile.depth_range.y * texel_world);
     float v = min(chebyshev_upper_bound(moments.xy, warped.x, spread.x * spread.x),
                   chebyshev_upper_bound(moments.zw, warped.y, spread.y * spread.y));
     // Light-bleeding reduction: the bound's low tail (light leaking through
     // overlapping occluders) is cut to full shadow.
-    return clamp((v - pc.evsm.z) / (1.0 - pc.evsm.z), 0.0, 1.0);
+    return clamp((v - pc.light_bleeding_reduction) / (1.0 - pc.light_bleeding_reduction), 0.0, 1.0);
   }
   return 1.0;
 }

@@ -1,14 +1,18 @@
 // Structs and constants seen by both C++ and GLSL. Keep layouts std430/std140
-// compatible: vec4-sized members first, scalars padded to 16 bytes.
+// compatible: vec4-sized members first, scalars padded to 16 bytes (or, in
+// push constants, named scalars in groups of four).
 #ifndef RTSDF_SHADERS_SHARED_H
 #define RTSDF_SHADERS_SHARED_H
 
 #ifdef __cplusplus
+#include <cstddef>
 #include <cstdint>
 #include <glm/glm.hpp>
 namespace rtsdf::gpu {
 using uint = std::uint32_t;
+using vec2 = glm::vec2;
 using vec4 = glm::vec4;
+using ivec2 = glm::ivec2;
 using ivec4 = glm::ivec4;
 using uvec4 = glm::uvec4;
 using mat4 = glm::mat4;
@@ -228,23 +232,33 @@ struct FieldPackPush {
 };
 
 struct ShadePush {
-  ivec4 image;        // x, y = size in pixels, z = light count, w = accumulation frame
-  uvec4 visibility;   // x = kVisibility*, y = shadow-map tile size (texels), z = field instances (0: nothing
-                      // casts shadows), w = shadow_max_steps
-  vec4 march;         // in voxels of the field nearest each sample: x = shadow_epsilon, y = max_step;
-                      // z = the receiver's clearance at the start (voxels of its own field)
-  vec4 field_reach;   // x = the longest step the march can take anywhere (world): max_step voxels of the coarsest field
-  vec4 surface;       // x = a caster's march origin, off its surface along the normal (voxels of its field),
-                      // y = the shadow-map lookup's offset (texels), z = rays per light where the field is
-                      // uncertain (kVisibilityHybrid)
-  vec4 evsm;          // x = positive exponent c+, y = negative exponent c-, z = light-bleeding reduction,
-                      // w = filter radius (texels; 0: from a blocker search, as wide as the penumbra)
-  uvec4 sequence;     // x = this frame's index in the jitter sequences: the accumulation frame, counted on
-                      // across frame changes whose history is kept, so reused samples and new ones differ
-  vec4 debug;         // x = kDebug* (a view of the fields in place of the image), y = the slice's world z
+  ivec2 image_size;              // pixels
+  int light_count;
+  int accumulation_frame;        // 0: the first of an accumulation (no mean to read yet)
+  uint visibility_mode;          // kVisibility*
+  uint shadow_map_tile_texels;   // texels per side of a shadow-map tile
+  uint field_instances;          // fields placed in the scene (0: nothing casts shadows)
+  uint max_march_steps;          // shadow_max_steps
+  // Distances along the march are in voxels of the field nearest each sample.
+  float shadow_epsilon;          // a sample this near a surface blocks the ray
+  float max_step;                // the longest step, in voxels
+  float receiver_clearance;      // voxels of the receiver's own field the march starts along the ray
+  float field_reach;             // world: the longest step the march can take anywhere (max_step voxels of the coarsest field)
+  float caster_offset;           // a caster's march origin off its surface along the normal (voxels of its field)
+  float shadow_map_offset;       // the shadow-map lookup's offset off the surface (texels)
+  uint exact_rays;               // rays per light where the field is uncertain (kVisibilityHybrid)
+  uint sequence;                 // this frame's index in the jitter sequences: the accumulation frame, counted on
+                                 // across frame changes whose history is kept, so reused samples and new ones differ
+  vec2 evsm_exponents;           // c+ and c- of the exponential warp
+  float light_bleeding_reduction;
+  float map_filter_texels;       // filter radius (texels; 0: from a blocker search, as wide as the penumbra)
+  uint field_view;               // kDebug*: a view of the fields in place of the image
+  float field_view_height;       // the distance slice's world z
+  uint pad0;
+  uint pad1;
 };
 
-// Views of the distance fields in place of the shaded image (ShadePush::debug.x; field_views.glsl.h).
+// Views of the distance fields in place of the shaded image (ShadePush::field_view; field_views.glsl.h).
 const uint kDebugNone = 0u;
 const uint kDebugDistanceSlice = 1u;    // the fields' distance on the plane z = debug.y, as a heat map
 const uint kDebugMarchSteps = 2u;       // the fields' zero level sphere-traced from the camera, by its steps
@@ -288,7 +302,9 @@ static_assert(sizeof(GpuLight) == 64, "GpuLight layout");
 static_assert(sizeof(FrameData) == 112 + 32 * kMaxSkyBlockers + 2 * 64 + 4 * 16, "FrameData layout");
 static_assert(sizeof(GBufferPush) == 96, "GBufferPush layout");
 static_assert(sizeof(GpuMaterial) == 32, "GpuMaterial layout");
-static_assert(sizeof(ShadePush) == 128, "ShadePush layout");
+static_assert(sizeof(ShadePush) == 96, "ShadePush layout");
+// (a vec2 sits on 8 bytes in GLSL's push-constant layout: its offset must agree)
+static_assert(offsetof(ShadePush, evsm_exponents) == 64 && offsetof(ShadePush, field_view) == 80, "ShadePush offsets");
 static_assert(sizeof(TemporalPush) == 48, "TemporalPush layout");
 static_assert(sizeof(FieldInstance) == 160, "FieldInstance layout");
 static_assert(sizeof(FieldPackPush) == 96, "FieldPackPush layout");

@@ -76,13 +76,13 @@ void ShadePass::record(VkCommandBuffer cmd, const GBufferPass& gbuffer, const Ma
                        const vk::Buffer& lights, const vk::Buffer& frame,
                        const vk::Image& accum_color, const vk::Image& accum_passes, bool march_sky, bool share_lights,
                        const gpu::ShadePush& push, vk::GpuTimer* timer) {
-  const uint32_t mode = push.visibility.x;
-  share_lights = share_lights && mode != gpu::kVisibilityShadowMaps && push.image.z > 0 &&
-                 push.image.z <= kMaxSharedLights;
+  const uint32_t mode = push.visibility_mode;
+  share_lights = share_lights && mode != gpu::kVisibilityShadowMaps && push.light_count > 0 &&
+                 push.light_count <= kMaxSharedLights;
   Passes& passes = passes_for(mode, share_lights);
-  const glm::ivec2 size(push.image);
+  const glm::ivec2 size = push.image_size;
   const glm::ivec2 quads = (size + 1) / 2;
-  const VkDeviceSize shared_bytes = sizeof(float) * VkDeviceSize(quads.x) * VkDeviceSize(quads.y) * push.image.z;
+  const VkDeviceSize shared_bytes = sizeof(float) * VkDeviceSize(quads.x) * VkDeviceSize(quads.y) * push.light_count;
   if (size != size_ || (share_lights && quad_lights_.size() < shared_bytes))
     throw Error("ShadePass: resize() to the image and the lights first");
   auto run = [&](const vk::Pipeline& pass) {

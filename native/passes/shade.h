@@ -27,7 +27,7 @@ class ShadePass {
   // Sizes the quad pass's outputs and the fill list for an image and a light
   // count (outside a command buffer: a new image is set up by a submission).
   void resize(glm::ivec2 size, int lights);
-  // `shadow_maps`: only with push.visibility.x == kVisibilityShadowMaps,
+  // `shadow_maps`: only with push.visibility_mode == kVisibilityShadowMaps,
   // `rays` (the shadow casters' BVHs) only with kVisibilityRayTraced or kVisibilityHybrid (null:
   // placeholders are bound in their place; with no rays, nothing blocks). `march_sky`: the world
   // light is marched (it has some colour and the method is an SDF's).
@@ -40,7 +40,7 @@ class ShadePass {
   // every pixel.
   // Lights are shared up to kMaxSharedLights (the quad pass keeps a value
   // per light and quad); with more, every pixel marches them.
-  // The pipelines are made for push.visibility.x's method on their first use.
+  // The pipelines are made for push.visibility_mode's method on their first use.
   // `timer` (optional) gets a "quad" mark after the quad pass.
   void record(VkCommandBuffer cmd, const GBufferPass& gbuffer, const MarchFields& fields,
               const ShadowMapPass* shadow_maps, const GpuScene::RayStructures* rays, const vk::Buffer& lights,
