@@ -74,8 +74,9 @@ void FineSdf::update(const GpuScene::RayTargets& rays, const CoarseSdf& coarse, 
   allocate(fine_grid);
   context_.submit_and_wait([&](VkCommandBuffer cmd) {
     timer_.begin(cmd);
-    pass_->record(cmd, rays, coarse.grid(), coarse.distance(), grid_, distance_, history_, trace_list_, dispatch_,
-                  settings, coarse.beta_world(), frame_, frame_ == 0, changed, &timer_);
+    pass_->record(cmd, rays,
+                  {coarse.grid(), coarse.distance(), coarse.beta_world(), grid_, distance_, history_, trace_list_, dispatch_},
+                  settings, {frame_, frame_ == 0, changed}, &timer_);
     vk::memory_barrier(cmd, VK_ACCESS_SHADER_WRITE_BIT, VK_ACCESS_TRANSFER_READ_BIT,
                        VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT);
     VkBufferCopy count{0, 0, sizeof(uint32_t)};

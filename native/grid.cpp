@@ -14,7 +14,6 @@ glm::mat4 GridSpec::world_to_voxel() const {
   return glm::scale(glm::mat4(1.0f), glm::vec3(1.0f / voxel_size)) * glm::translate(glm::mat4(1.0f), -origin);
 }
 
-GridSpec GridSpec::refined(int factor) const { return GridSpec{origin, voxel_size / float(factor), dims * factor}; }
 
 int margin_voxels(int resolution) { return resolution >= 32 ? 3 : 1; }
 

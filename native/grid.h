@@ -16,7 +16,6 @@ struct GridSpec {
   glm::vec3 voxel_center(glm::ivec3 voxel) const { return origin + (glm::vec3(voxel) + 0.5f) * voxel_size; }
   glm::mat4 world_to_voxel() const;
   // The same bounds with `factor` times as many voxels per axis.
-  GridSpec refined(int factor) const;
 };
 
 // Empty voxels kept around the scene's bounds on every side, so the band

@@ -509,7 +509,7 @@ void Renderer::add_frame() {
     const bool march_sky = push_.visibility_mode != gpu::kVisibilityShadowMaps &&
                            glm::dot(glm::vec3(frame_data_.ambient), glm::vec3(frame_data_.ambient)) > 0.0f;
     const bool share_lights = settings_.quick_first_frame && frame_ == 0;
-    shade_.record(cmd, gbuffer_, march_, shadow_maps, rays, light_buffer_, frame_buffer_, accum_color_, accum_passes_,
+    shade_.record(cmd, {gbuffer_, march_, shadow_maps, rays, light_buffer_, frame_buffer_}, {accum_color_, accum_passes_},
                   march_sky, share_lights, push_, &shading_timer_);
     if (has_history_ && frame_ == 0) {
       vk::memory_barrier(cmd, VK_ACCESS_SHADER_WRITE_BIT, VK_ACCESS_SHADER_READ_BIT,
@@ -521,8 +521,9 @@ void Renderer::add_frame() {
       temporal.params = glm::vec4(kTemporalClip, kMovedShadowSamples, kReprojectedDepthTolerance,
                                   std::ceil(std::max(settings_.filter_width, 0.5f)));
       temporal.settle = glm::uvec4(same_lighting_ ? 1u : 0u, 0u, 0u, 0u);
-      temporal_.record(cmd, gbuffer_, accum_color_, accum_passes_, history_color_, history_passes_, frame_buffer_,
-                       light_buffer_, resolved_color_, resolved_passes_, temporal);
+      temporal_.record(cmd, gbuffer_,
+                       {accum_color_, accum_passes_, history_color_, history_passes_, resolved_color_, resolved_passes_},
+                       frame_buffer_, light_buffer_, temporal);
     }
     shading_timer_.mark(cmd, "shade");
   });

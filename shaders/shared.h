@@ -30,6 +30,9 @@ const uint kMaxGridResolution = 1024u;
 #define RTSDF_GROUP_X 8
 #define RTSDF_GROUP_Y 4
 #define RTSDF_GROUP_Z 2
+#ifdef __cplusplus
+inline constexpr glm::ivec3 kGroupShape3D{RTSDF_GROUP_X, RTSDF_GROUP_Y, RTSDF_GROUP_Z};
+#endif
 
 // Voxelization draws one instance at a time; vertices are pulled from storage buffers.
 struct VoxelizePush {

@@ -19,7 +19,7 @@ void FieldPackPass::record(VkCommandBuffer cmd, const gpu::FieldPackPush& push, 
   far_.bind(cmd);
   far_.push_descriptors(cmd, {vk::Resource::storage_image(coarse)});
   far_.push_constants(cmd, push);
-  vk::dispatch_grid(cmd, glm::ivec3((push.coarse_dims.x + 1) / 2, push.coarse_dims.y, push.coarse_dims.z));
+  vk::dispatch_grid(cmd, glm::ivec3((push.coarse_dims.x + 1) / 2, push.coarse_dims.y, push.coarse_dims.z), gpu::kGroupShape3D);
   if (fine) {
     bricks_.bind(cmd);
     bricks_.push_descriptors(cmd, {vk::Resource::storage_image(coarse), vk::Resource::storage_image(*fine)});

@@ -47,14 +47,20 @@ FineTracePass::FineTracePass(const vk::Context& context)
       trace_(context, RTSDF_SPIRV(spirv_fine_trace_comp),
              {kBuffer, kBuffer, kBuffer, kBuffer, kImage, kImage, kImage, kBuffer, kBuffer}, sizeof(gpu::FinePush)) {}
 
-void FineTracePass::record(VkCommandBuffer cmd, const GpuScene::RayTargets& scene, const GridSpec& coarse_grid,
-                           const vk::Image& coarse, const GridSpec& fine_grid, const vk::Image& fine,
-                           const vk::Image& history, const vk::Buffer& trace_list, const vk::Buffer& dispatch,
-                           const FineTraceSettings& settings, float beta_world, uint32_t frame, bool first_frame,
-                           const Bounds* changed, vk::GpuTimer* timer) const {
+void FineTracePass::record(VkCommandBuffer cmd, const GpuScene::RayTargets& scene, const FineTraceFields& fields,
+                           const FineTraceSettings& settings, const FineTraceTurn& turn, vk::GpuTimer* timer) const {
+  const GridSpec &coarse_grid = fields.coarse_grid, &fine_grid = fields.fine_grid;
+  const vk::Image &coarse = fields.coarse, &fine = fields.fine, &history = fields.history;
+  const vk::Buffer &trace_list = fields.trace_list, &dispatch = fields.dispatch;
+  const float beta_world = fields.beta_world;
+  const uint32_t frame = turn.frame;
+  const bool first_frame = turn.first_frame;
+  const Bounds* changed = turn.changed;
   const float coarse_voxel = coarse_grid.voxel_size;
-  const float bias = settings.decay_target_bias >= 0.0f ? settings.decay_target_bias * coarse_voxel
-                                                        : beta_world + 0.5f * std::sqrt(3.0f) * coarse_voxel;
+  // Added to c_t where the texel decays towards it (the paper adds nothing):
+  // beta + half a coarse voxel's diagonal makes it an upper bound of the true
+  // distance, so the min with traced hits converges from above.
+  const float bias = beta_world + 0.5f * std::sqrt(3.0f) * coarse_voxel;
   const glm::vec3 extent = glm::vec3(fine_grid.dims) * fine_grid.voxel_size;
   gpu::FinePush push{};
   push.rotation = frame_rotation(frame);
@@ -92,7 +98,7 @@ void FineTracePass::record(VkCommandBuffer cmd, const GpuScene::RayTargets& scen
   classify_.push_descriptors(cmd, {vk::Resource::storage_image(coarse), vk::Resource::storage_image(fine),
                                    vk::Resource::storage_image(history), vk::Resource::storage_buffer(trace_list)});
   classify_.push_constants(cmd, push);
-  vk::dispatch_grid(cmd, fine_grid.dims);
+  vk::dispatch_grid(cmd, fine_grid.dims, gpu::kGroupShape3D);
   if (timer) timer->mark(cmd, "fine classify");
 
   compute_barrier(cmd);

@@ -17,10 +17,6 @@ struct FineTraceSettings {
   // style), after a first frame that traces them all: per-frame work drops
   // K-fold, convergence and recovery take K times as many frames.
   int interleave = 1;
-  // Added to c_t where the texel decays towards it. 0 gives the paper's update;
-  // the default (beta + half a coarse voxel diagonal) is an upper bound of the
-  // true distance, so the min with traced hits converges from above.
-  float decay_target_bias = -1.0f;  // < 0: the default
   // The RT-only baseline: no band. Every texel of the grid is listed (the band
   // and the interleave are ignored) and its rays are long enough to cross the grid.
   bool trace_everywhere = false;
@@ -30,18 +26,35 @@ struct FineTraceSettings {
   float band_world(float coarse_voxel) const;
 };
 
+// What the fine trace reads and writes: the coarse SDF it starts from, and
+// the fine SDF with its history, trace list and indirect dispatch arguments.
+struct FineTraceFields {
+  const GridSpec& coarse_grid;
+  const vk::Image& coarse;
+  float beta_world;  // the coarse SDF's beta, in world units
+  const GridSpec& fine_grid;
+  const vk::Image& fine;
+  const vk::Image& history;
+  const vk::Buffer& trace_list;  // a count and one packed texel per fine voxel
+  const vk::Buffer& dispatch;    // the trace's indirect dispatch arguments
+};
+
+// Which update this is: `frame` picks the ray set and the interleave turn;
+// `first_frame` marks a field with no history; `changed` (may be null) is the
+// world region where casters changed.
+struct FineTraceTurn {
+  uint32_t frame;
+  bool first_frame;
+  const Bounds* changed;
+};
+
 class FineTracePass {
  public:
   explicit FineTracePass(const vk::Context& context);
-  // `trace_list` holds a count and one packed texel per fine voxel; `dispatch`
-  // holds the indirect arguments. `frame` picks the ray set and the interleave turn;
-  // `first_frame` marks a field with no history. `changed` (may be null): the
-  // world region where casters changed; only band texels whose rays can reach
-  // it are traced, on their turn (ignored on a first frame and by trace_everywhere).
-  void record(VkCommandBuffer cmd, const GpuScene::RayTargets& scene, const GridSpec& coarse_grid, const vk::Image& coarse,
-              const GridSpec& fine_grid, const vk::Image& fine, const vk::Image& history,
-              const vk::Buffer& trace_list, const vk::Buffer& dispatch, const FineTraceSettings& settings,
-              float beta_world, uint32_t frame, bool first_frame, const Bounds* changed, vk::GpuTimer* timer) const;
+  // With turn.changed, only band texels whose rays can reach it are traced, on
+  // their turn (ignored on a first frame and by trace_everywhere).
+  void record(VkCommandBuffer cmd, const GpuScene::RayTargets& scene, const FineTraceFields& fields,
+              const FineTraceSettings& settings, const FineTraceTurn& turn, vk::GpuTimer* timer) const;
 
  private:
   vk::Pipeline classify_;

@@ -44,7 +44,7 @@ const vk::Image& JumpFloodPass::record_flood(VkCommandBuffer cmd, const vk::Imag
     compute_to_compute(cmd);
     flood_.push_descriptors(cmd, {vk::Resource::storage_image(*source), vk::Resource::storage_image(*target)});
     flood_.push_constants(cmd, gpu::JumpFloodPush{glm::ivec4(a.dims(), step)});
-    vk::dispatch_grid(cmd, a.dims());
+    vk::dispatch_grid(cmd, a.dims(), gpu::kGroupShape3D);
     if (timer) timer->mark(cmd, "jump_flood step " + std::to_string(step));
     source = target;
     std::swap(target, spare);
@@ -58,7 +58,7 @@ void JumpFloodPass::record_distance(VkCommandBuffer cmd, const vk::Image& seeds,
   distance_.bind(cmd);
   distance_.push_descriptors(cmd, {vk::Resource::storage_image(seeds), vk::Resource::storage_image(distance)});
   distance_.push_constants(cmd, gpu::SeedDistancePush{glm::ivec4(seeds.dims(), 0), glm::vec4(voxel_size, beta_world, 0, 0)});
-  vk::dispatch_grid(cmd, seeds.dims());
+  vk::dispatch_grid(cmd, seeds.dims(), gpu::kGroupShape3D);
 }
 
 }  // namespace rtsdf

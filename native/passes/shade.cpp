@@ -71,11 +71,12 @@ void ShadePass::resize(glm::ivec2 size, int lights) {
     quad_lights_ = vk::Buffer(context_, light_bytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, vk::Buffer::Access::DeviceOnly);
 }
 
-void ShadePass::record(VkCommandBuffer cmd, const GBufferPass& gbuffer, const MarchFields& fields,
-                       const ShadowMapPass* shadow_maps, const GpuScene::RayStructures* rays,
-                       const vk::Buffer& lights, const vk::Buffer& frame,
-                       const vk::Image& accum_color, const vk::Image& accum_passes, bool march_sky, bool share_lights,
-                       const gpu::ShadePush& push, vk::GpuTimer* timer) {
+void ShadePass::record(VkCommandBuffer cmd, const ShadeInputs& in, const ShadeTargets& out, bool march_sky,
+                       bool share_lights, const gpu::ShadePush& push, vk::GpuTimer* timer) {
+  const GBufferPass& gbuffer = in.gbuffer;
+  const MarchFields& fields = in.fields;
+  const ShadowMapPass* shadow_maps = in.shadow_maps;
+  const GpuScene::RayStructures* rays = in.rays;
   const uint32_t mode = push.visibility_mode;
   share_lights = share_lights && mode != gpu::kVisibilityShadowMaps && push.light_count > 0 &&
                  push.light_count <= kMaxSharedLights;
@@ -90,8 +91,8 @@ void ShadePass::record(VkCommandBuffer cmd, const GBufferPass& gbuffer, const Ma
     pass.push_descriptors(
         cmd, {vk::Resource::storage_image(gbuffer.position()), vk::Resource::storage_image(gbuffer.normal()),
               vk::Resource::storage_image(gbuffer.albedo()), vk::Resource::storage_buffer(fields.instances()),
-              vk::Resource::storage_buffer(lights), vk::Resource::storage_buffer(frame),
-              vk::Resource::storage_image(accum_color), vk::Resource::storage_image(accum_passes),
+              vk::Resource::storage_buffer(in.lights), vk::Resource::storage_buffer(in.frame),
+              vk::Resource::storage_image(out.accum_color), vk::Resource::storage_image(out.accum_passes),
               vk::Resource::storage_image(shadow_maps ? shadow_maps->moments() : no_shadow_atlas_),
               vk::Resource::storage_buffer(shadow_maps ? shadow_maps->tiles() : no_shadow_tiles_),
               vk::Resource::storage_buffer(shadow_maps ? shadow_maps->light_tiles() : no_shadow_tiles_),

@@ -20,6 +20,25 @@
 
 namespace rtsdf {
 
+// What the shading reads: the G-buffer, the fields the march reads, the
+// shadow maps (only with kVisibilityShadowMaps), the shadow casters' BVHs
+// (only with kVisibilityRayTraced or kVisibilityHybrid; null: placeholders
+// are bound and nothing blocks), the lights and the frame's data.
+struct ShadeInputs {
+  const GBufferPass& gbuffer;
+  const MarchFields& fields;
+  const ShadowMapPass* shadow_maps;
+  const GpuScene::RayStructures* rays;
+  const vk::Buffer& lights;
+  const vk::Buffer& frame;
+};
+
+// The running means it adds this frame's sample to.
+struct ShadeTargets {
+  const vk::Image& accum_color;   // rgb = Combined, a = coverage
+  const vk::Image& accum_passes;  // Depth, Shadow, samples, farthest depth
+};
+
 class ShadePass {
  public:
   static constexpr int kMaxSharedLights = 16;
@@ -27,9 +46,7 @@ class ShadePass {
   // Sizes the quad pass's outputs and the fill list for an image and a light
   // count (outside a command buffer: a new image is set up by a submission).
   void resize(glm::ivec2 size, int lights);
-  // `shadow_maps`: only with push.visibility_mode == kVisibilityShadowMaps,
-  // `rays` (the shadow casters' BVHs) only with kVisibilityRayTraced or kVisibilityHybrid (null:
-  // placeholders are bound in their place; with no rays, nothing blocks). `march_sky`: the world
+  // `march_sky`: the world
   // light is marched (it has some colour and the method is an SDF's).
   // `share_lights` (SDF methods only): the lights' visibility too is marched
   // at one pixel of each 2x2 quad and taken from there by the pixels on the
@@ -42,10 +59,7 @@ class ShadePass {
   // per light and quad); with more, every pixel marches them.
   // The pipelines are made for push.visibility_mode's method on their first use.
   // `timer` (optional) gets a "quad" mark after the quad pass.
-  void record(VkCommandBuffer cmd, const GBufferPass& gbuffer, const MarchFields& fields,
-              const ShadowMapPass* shadow_maps, const GpuScene::RayStructures* rays, const vk::Buffer& lights,
-              const vk::Buffer& frame,
-              const vk::Image& accum_color, const vk::Image& accum_passes, bool march_sky, bool share_lights,
+  void record(VkCommandBuffer cmd, const ShadeInputs& in, const ShadeTargets& out, bool march_sky, bool share_lights,
               const gpu::ShadePush& push, vk::GpuTimer* timer = nullptr);
 
  private:

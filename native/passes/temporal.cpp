@@ -14,18 +14,15 @@ TemporalPass::TemporalPass(const vk::Context& context)
                 {kImage, kImage, kImage, kImage, kImage, kImage, kBuffer, kBuffer, kImage, kImage},
                 uint32_t(sizeof(gpu::TemporalPush))) {}
 
-void TemporalPass::record(VkCommandBuffer cmd, const GBufferPass& gbuffer, const vk::Image& accum_color,
-                          const vk::Image& accum_passes, const vk::Image& history_color,
-                          const vk::Image& history_passes, const vk::Buffer& frame, const vk::Buffer& lights,
-                          const vk::Image& resolved_color, const vk::Image& resolved_passes,
-                          const gpu::TemporalPush& push) const {
+void TemporalPass::record(VkCommandBuffer cmd, const GBufferPass& gbuffer, const TemporalImages& images,
+                          const vk::Buffer& frame, const vk::Buffer& lights, const gpu::TemporalPush& push) const {
   pipeline_.bind(cmd);
   pipeline_.push_descriptors(
       cmd, {vk::Resource::storage_image(gbuffer.position()), vk::Resource::storage_image(gbuffer.motion()),
-            vk::Resource::storage_image(accum_color), vk::Resource::storage_image(accum_passes),
-            vk::Resource::storage_image(history_color), vk::Resource::storage_image(history_passes),
+            vk::Resource::storage_image(images.sample_color), vk::Resource::storage_image(images.sample_passes),
+            vk::Resource::storage_image(images.history_color), vk::Resource::storage_image(images.history_passes),
             vk::Resource::storage_buffer(frame), vk::Resource::storage_buffer(lights),
-            vk::Resource::storage_image(resolved_color), vk::Resource::storage_image(resolved_passes)});
+            vk::Resource::storage_image(images.resolved_color), vk::Resource::storage_image(images.resolved_passes)});
   pipeline_.push_constants(cmd, push);
   vkCmdDispatch(cmd, vk::group_count(push.image.x, 8), vk::group_count(push.image.y, 8), 1);
 }

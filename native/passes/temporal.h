@@ -12,15 +12,22 @@
 
 namespace rtsdf {
 
+// The accumulations it resolves: this frame's sample (its first frame after
+// the change), the history from before the change, and where the result goes.
+struct TemporalImages {
+  const vk::Image& sample_color;
+  const vk::Image& sample_passes;
+  const vk::Image& history_color;
+  const vk::Image& history_passes;
+  const vk::Image& resolved_color;
+  const vk::Image& resolved_passes;
+};
+
 class TemporalPass {
  public:
   explicit TemporalPass(const vk::Context& context);
-  // Reads this frame's sample (accum_*) and the history (history_*), writes
-  // the resolved accumulation into resolved_*.
-  void record(VkCommandBuffer cmd, const GBufferPass& gbuffer, const vk::Image& accum_color,
-              const vk::Image& accum_passes, const vk::Image& history_color, const vk::Image& history_passes,
-              const vk::Buffer& frame, const vk::Buffer& lights, const vk::Image& resolved_color,
-              const vk::Image& resolved_passes, const gpu::TemporalPush& push) const;
+  void record(VkCommandBuffer cmd, const GBufferPass& gbuffer, const TemporalImages& images, const vk::Buffer& frame,
+              const vk::Buffer& lights, const gpu::TemporalPush& push) const;
 
  private:
   vk::Pipeline pipeline_;

@@ -1,6 +1,5 @@
 #include "vk/pipeline.h"
 
-#include "shaders/shared.h"
 #include "vk/context.h"
 #include "vk/resources.h"
 
@@ -233,9 +232,8 @@ void Pipeline::push_constant_bytes(VkCommandBuffer cmd, const void* data, uint32
   vkCmdPushConstants(cmd, layout_, stages_, 0, bytes, data);
 }
 
-void dispatch_grid(VkCommandBuffer cmd, glm::ivec3 dims) {
-  vkCmdDispatch(cmd, group_count(dims.x, RTSDF_GROUP_X), group_count(dims.y, RTSDF_GROUP_Y),
-                group_count(dims.z, RTSDF_GROUP_Z));
+void dispatch_grid(VkCommandBuffer cmd, glm::ivec3 dims, glm::ivec3 group) {
+  vkCmdDispatch(cmd, group_count(dims.x, group.x), group_count(dims.y, group.y), group_count(dims.z, group.z));
 }
 
 Framebuffer::Framebuffer(const Context& context, VkRenderPass pass, uint32_t width, uint32_t height,

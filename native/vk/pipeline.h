@@ -94,7 +94,7 @@ class Framebuffer {
 inline uint32_t group_count(int count, int group) { return uint32_t((count + group - 1) / group); }
 
 // Dispatches one invocation per voxel of a dims.x * dims.y * dims.z grid, in
-// the work-group shape the 3D passes declare (RTSDF_GROUP_X/Y/Z).
-void dispatch_grid(VkCommandBuffer cmd, glm::ivec3 dims);
+// work groups of the shape the shader declares.
+void dispatch_grid(VkCommandBuffer cmd, glm::ivec3 dims, glm::ivec3 group);
 
 }  // namespace rtsdf::vk
