@@ -144,6 +144,18 @@ void main() {
   history /= weights;
   history_shadow /= weights;
 
+  // A silhouette's history holds the surfaces in front as well (its nearest
+  // depth). Where that front surface was what moved, this pixel's history
+  // mixes in an object that has left it: it is uncertain, and never settled.
+  bool front_moved = false;
+  if (!background && history_nearest < kNothingHitDepth) {
+    vec3 camera = frame.camera_position.xyz, forward = frame.camera_forward.xyz;
+    vec3 ray = frame.camera_position.w > 0.5 ? forward : normalize(position.xyz - camera);
+    float depth = dot(position.xyz - camera, forward);
+    vec3 history_front = position.xyz + ray * ((history_nearest - depth) / max(dot(ray, forward), 1e-3));
+    front_moved = history_nearest < depth * (1.0 - pc.params.z) && near_change(history_front);
+  }
+
   // The neighbourhood's mean and spread in YCoCg (this frame's samples, same coverage).
   vec3 mean = vec3(0.0), square = vec3(0.0);
   float count = 0.0;
@@ -166,6 +178,7 @@ void main() {
   float shadow_history = mix(passes.y, history_shadow, kept);
 
   float samples = min(history_samples, float(pc.image.w));
+  if (front_moved) samples = min(samples, kNearbyHistorySamples);
   bool shadow_moved = false;
   for (int l = 0; l < pc.image.z && !background; ++l)
     if (light_path_crosses_change(position.xyz, l)) shadow_moved = true, samples = min(samples, pc.params.y);
@@ -179,6 +192,7 @@ void main() {
   // to offsets the still frames did not take); away from what moved, that is
   // the jitter, not motion, so its full history counts here.
   bool settled = pc.settle.x == 1u && min(full_samples, float(pc.image.w)) >= float(pc.image.w) && !shadow_moved &&
+                 !front_moved &&
                  !(!background && near_change(position.xyz)) && all(lessThan(abs(at - vec2(pixel)), vec2(1e-3)));
   if (settled) w = 0.0, clipped = history.rgb, shadow_history = history_shadow;
   imageStore(resolved_color, pixel, vec4(mix(clipped, current.rgb, w), current.a));
