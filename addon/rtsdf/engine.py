@@ -186,9 +186,9 @@ class RTSDFRenderEngine(bpy.types.RenderEngine):
         width = max(1, round(region.width * settings.viewport_scale))
         height = max(1, round(region.height * settings.viewport_scale))
         options = settings.as_dict()
-        # Room around the casters: an object moving a little keeps the grid and the fine SDF's history.
-        options.update(samples=settings.viewport_samples, sdf_updates=0, interleave=settings.viewport_interleave,
-                       grid_slack=0.5, quick_first_frame=settings.viewport_quick_first_frame,
+        # (the rest of the viewport's policy, the fields' history and room, is the native Viewport's)
+        options.update(samples=settings.viewport_samples, interleave=settings.viewport_interleave,
+                       quick_first_frame=settings.viewport_quick_first_frame,
                        temporal_reuse=settings.viewport_temporal_reuse)
         try:
             out = self.viewport.draw(sync.view_data(context.region_data, width, height, self.lighting), options)

@@ -259,6 +259,9 @@ void visit_settings(rtsdf::RenderSettings& settings, Visit&& visit) {
   visit("history_samples", settings.history_samples);
 }
 
+// Room a viewport's grids keep around the shadow casters, as a share of their extent.
+constexpr float kViewportGridSlack = 0.5f;
+
 rtsdf::RenderSettings settings_of(const py::dict& settings_desc) {
   rtsdf::RenderSettings settings;
   // "rtsdf", "rtsdf_world", "rt_only", "jfa_only", "csm_evsm", "csm_jitter" or "raytraced"; anything else is an rtsdf.Error.
@@ -376,7 +379,13 @@ class Viewport {
     const int width = view_desc["width"].cast<int>(), height = view_desc["height"].cast<int>();
     const glm::vec3 ambient = vec3_of(view_desc["ambient"]);
     rtsdf::RenderSettings settings = settings_of(settings_desc);
-    settings.keep_history = true;  // the paper's frame-to-frame reuse: the decay forgets what moved
+    // The viewport's policy, here for every caller (the add-on, the benches):
+    // the paper's frame-to-frame reuse (the decay forgets what moved), the
+    // fields updated in every frame until they converge, and room around the
+    // casters so that an object moving a little keeps its grid and history.
+    settings.keep_history = true;
+    settings.sdf_updates = 0;
+    if (!settings_desc.contains("grid_slack")) settings.grid_slack = kViewportGridSlack;
     // What the image depends on besides the scene, to tell whether it changed.
     std::string key;
     append_fingerprint(key, view_desc);
