@@ -88,13 +88,41 @@ const char* name_of(const Named<Enum> (&table)[N], Enum value) {
   return "unknown";
 }
 
-constexpr Named<ShadowMethod> kMethodNames[] = {{ShadowMethod::Rtsdf, "rtsdf"},
-                                                {ShadowMethod::RtsdfWorld, "rtsdf_world"},
-                                                {ShadowMethod::RtOnly, "rt_only"},
-                                                {ShadowMethod::JfaOnly, "jfa_only"},
-                                                {ShadowMethod::CsmEvsm, "csm_evsm"},
-                                                {ShadowMethod::CsmJitter, "csm_jitter"},
-                                                {ShadowMethod::RayTraced, "raytraced"}};
+// What each shadow method builds and how the shading looks its visibility
+// up: the one table a new method is registered in (its name, its fields or
+// maps, its kVisibility* lookup). Only visibility differs between methods.
+enum class Fields {
+  None,         // no SDF: shadow maps, or rays through the BVHs
+  PerMesh,      // one field per mesh in its object space (ObjectFields)
+  WorldCoarse,  // the whole scene's coarse (jump-flooded, unsigned) SDF alone
+  WorldFine,    // the whole scene's coarse and fine SDFs
+};
+
+struct MethodTraits {
+  ShadowMethod method;
+  const char* name;
+  Fields fields;
+  uint32_t visibility;      // gpu::kVisibility*: how shade.comp looks visibility up
+  bool trace_everywhere;    // the fine SDF traced at every texel, no band (FineTraceSettings)
+  bool exact_rays;          // takes Exact Rays where the field is unsure (kVisibilityHybrid)
+  bool jittered_maps;       // the shadow maps move over each light's shape every frame
+};
+
+constexpr MethodTraits kMethods[] = {
+    {ShadowMethod::Rtsdf, "rtsdf", Fields::PerMesh, gpu::kVisibilitySignedSdf, false, true, false},
+    {ShadowMethod::RtsdfWorld, "rtsdf_world", Fields::WorldFine, gpu::kVisibilitySignedSdf, false, true, false},
+    {ShadowMethod::RtOnly, "rt_only", Fields::WorldFine, gpu::kVisibilitySignedSdf, true, true, false},
+    {ShadowMethod::JfaOnly, "jfa_only", Fields::WorldCoarse, gpu::kVisibilityUnsignedSdf, false, false, false},
+    {ShadowMethod::CsmEvsm, "csm_evsm", Fields::None, gpu::kVisibilityShadowMaps, false, false, false},
+    {ShadowMethod::CsmJitter, "csm_jitter", Fields::None, gpu::kVisibilityShadowMaps, false, false, true},
+    {ShadowMethod::RayTraced, "raytraced", Fields::None, gpu::kVisibilityRayTraced, false, false, false},
+};
+
+const MethodTraits& traits(ShadowMethod method) {
+  for (const MethodTraits& entry : kMethods)
+    if (entry.method == method) return entry;
+  throw Error("unregistered shadow method");
+}
 constexpr Named<FieldView> kFieldViewNames[] = {{FieldView::None, "none"},
                                                 {FieldView::DistanceSlice, "distance_slice"},
                                                 {FieldView::MarchSteps, "march_steps"},
@@ -102,9 +130,9 @@ constexpr Named<FieldView> kFieldViewNames[] = {{FieldView::None, "none"},
                                                 {FieldView::ExactRays, "exact_rays"}};
 
 // The whole scene's fine SDF (world space).
-bool uses_fine_sdf(ShadowMethod method) { return method == ShadowMethod::RtsdfWorld || method == ShadowMethod::RtOnly; }
+bool uses_fine_sdf(ShadowMethod method) { return traits(method).fields == Fields::WorldFine; }
 
-bool uses_shadow_maps(ShadowMethod method) { return method == ShadowMethod::CsmEvsm || method == ShadowMethod::CsmJitter; }
+bool uses_shadow_maps(ShadowMethod method) { return traits(method).visibility == gpu::kVisibilityShadowMaps; }
 
 // csm_jitter's filter: a texel's width, for anti-aliasing only (the penumbra
 // comes from the moving origin).
@@ -152,8 +180,15 @@ ObjectFieldSettings object_field_settings(const RenderSettings& settings, const 
 
 }  // namespace
 
-ShadowMethod parse_shadow_method(const std::string& name) { return parse_name(kMethodNames, name, "shadow method"); }
-const char* shadow_method_name(ShadowMethod method) { return name_of(kMethodNames, method); }
+ShadowMethod parse_shadow_method(const std::string& name) {
+  std::string known;
+  for (const MethodTraits& entry : kMethods) {
+    if (name == entry.name) return entry.method;
+    known += std::string(known.empty() ? "" : ", ") + entry.name;
+  }
+  throw Error("unknown shadow method '" + name + "': use one of " + known);
+}
+const char* shadow_method_name(ShadowMethod method) { return traits(method).name; }
 FieldView parse_field_view(const std::string& name) { return parse_name(kFieldViewNames, name, "field view"); }
 const char* field_view_name(FieldView view) { return name_of(kFieldViewNames, view); }
 
@@ -206,7 +241,7 @@ void Renderer::pack_world_field(const vk::Image* fine, float band) {
 
 void Renderer::update_field_memory_stats(ShadowMethod method) {
   constexpr double kMiB = 1 << 20;
-  if (method == ShadowMethod::Rtsdf) {
+  if (traits(method).fields == Fields::PerMesh) {
     const ObjectFieldStats& objects = object_fields_.stats();
     stats_.field_mb = double(objects.bytes) / kMiB;
     stats_.field_peak_mb = double(objects.peak_bytes) / kMiB;
@@ -227,7 +262,7 @@ void Renderer::update_field_memory_stats(ShadowMethod method) {
 
 FineTraceSettings Renderer::fine_settings() const {
   FineTraceSettings fine = settings_.fine;
-  if (settings_.shadow_method == ShadowMethod::RtOnly) fine.trace_everywhere = true;
+  if (traits(settings_.shadow_method).trace_everywhere) fine.trace_everywhere = true;
   return fine;
 }
 
@@ -242,26 +277,27 @@ void Renderer::rebuild_sdfs(GpuScene& scene, const RenderSettings& settings) {
   scene_ = &scene;
   field_voxels_.assign(scene.instances().size(), 0.0f);
   const ShadowMethod method = settings.shadow_method;
+  const Fields fields = traits(method).fields;
   // Another method's fields hold memory this one does not read.
-  const bool world_field = has_casters_ && method != ShadowMethod::Rtsdf && !uses_shadow_maps(method) &&
-                           method != ShadowMethod::RayTraced;
-  if (method != ShadowMethod::Rtsdf) object_fields_.clear();
+  const bool world_field = has_casters_ && (fields == Fields::WorldCoarse || fields == Fields::WorldFine);
+  if (fields != Fields::PerMesh) object_fields_.clear();
   if (!world_field) {
     world_field_.release();
     world_field_packed_ = false;
     coarse_.release();
   }
   if (!uses_fine_sdf(method)) fine_.release();
-  if (!has_casters_ || uses_shadow_maps(method) || method == ShadowMethod::RayTraced) {
+  if (!has_casters_ || fields == Fields::None) {
     // Nothing to march (shadow maps need no SDF): their casters are still told
     // apart from receivers (they look themselves up off their surface).
     march_.place({});
     if (uses_shadow_maps(method))
       for (uint32_t i : scene.shadow_casters()) field_voxels_[i] = 1.0f;
-    if (method == ShadowMethod::RayTraced && has_casters_) scene.ray_structures();  // (built now, not in a frame)
+    if (traits(method).visibility == gpu::kVisibilityRayTraced && has_casters_)
+      scene.ray_structures();  // (built now, not in a frame)
     return;
   }
-  if (method == ShadowMethod::Rtsdf) {
+  if (fields == Fields::PerMesh) {
     FineTraceSettings fine = settings.fine;
     object_fields_.sync(scene, object_field_settings(settings, fine), march_);
     field_voxels_ = object_fields_.instance_voxels();
@@ -394,8 +430,9 @@ void Renderer::begin(GpuScene& scene, const Camera& camera, const std::vector<Li
 
   // Visibility: the fields the march reads, or the shadow maps. Distances
   // along the march are in voxels of the field nearest each sample.
+  const MethodTraits& method = traits(settings.shadow_method);
   push_ = {};
-  push_.visibility_mode = gpu::kVisibilitySignedSdf;
+  push_.visibility_mode = method.visibility;
   push_.field_instances = march_.instance_count();
   push_.max_march_steps = uint32_t(settings.shadow_max_steps);
   push_.shadow_epsilon = settings.shadow_epsilon;
@@ -405,45 +442,32 @@ void Renderer::begin(GpuScene& scene, const Camera& camera, const std::vector<Li
   push_.caster_offset = 0.25f;
   push_.field_view = uint32_t(settings.field_view);
   push_.field_view_height = settings.field_view_height;
-  switch (settings.shadow_method) {
-    case ShadowMethod::Rtsdf:
-    case ShadowMethod::RtsdfWorld:
-    case ShadowMethod::RtOnly:
-      if (settings.exact_rays > 0 && has_casters_) {
-        push_.visibility_mode = gpu::kVisibilityHybrid;
-        push_.exact_rays = uint32_t(settings.exact_rays);
-        scene.ray_structures();  // (built now, not in a frame)
-      }
-      break;
-    case ShadowMethod::JfaOnly:
-      // The unsigned field's surfaces are shells epsilon + beta thick: a
-      // caster's march starts outside its own shell (with a voxel to spare
-      // for the flood's quantization), or its lit side would shadow itself.
-      push_.visibility_mode = gpu::kVisibilityUnsignedSdf;
-      push_.caster_offset = settings.shadow_epsilon + settings.beta + 1.0f;
-      break;
-    case ShadowMethod::CsmEvsm:
-    case ShadowMethod::CsmJitter: {
-      if (!shadow_maps_) shadow_maps_ = std::make_unique<ShadowMapPass>(context_);
-      // csm_jitter fits its maps again every frame, to the light's next point.
-      const float filter = settings.shadow_method == ShadowMethod::CsmJitter ? kJitteredMapFilterTexels : 0.0f;
-      shadow_map_lights_ = lights;
-      shadow_map_camera_ = camera;
-      shadow_maps_->setup(scene, lights, camera.world_to_view, camera.projection, settings.shadow_map_size, filter);
-      push_.visibility_mode = gpu::kVisibilityShadowMaps;
-      push_.shadow_map_tile_texels = uint32_t(shadow_maps_->tile_size());
-      push_.caster_offset = 0.0f;
-      push_.shadow_map_offset = 1.0f;  // a texel off their own depth in the maps
-      push_.evsm_exponents = glm::vec2(ShadowMapPass::kPositiveExponent, ShadowMapPass::kNegativeExponent);
-      push_.light_bleeding_reduction = ShadowMapPass::kLightBleedingReduction;
-      push_.map_filter_texels = filter;
-      break;
-    }
-    case ShadowMethod::RayTraced:
-      push_.visibility_mode = gpu::kVisibilityRayTraced;
-      push_.caster_offset = 0.0f;  // (rays start off the surface on their own)
-      break;
+  if (method.exact_rays && settings.exact_rays > 0 && has_casters_) {
+    push_.visibility_mode = gpu::kVisibilityHybrid;
+    push_.exact_rays = uint32_t(settings.exact_rays);
+    scene.ray_structures();  // (built now, not in a frame)
   }
+  if (method.visibility == gpu::kVisibilityUnsignedSdf) {
+    // The unsigned field's surfaces are shells epsilon + beta thick: a
+    // caster's march starts outside its own shell (with a voxel to spare
+    // for the flood's quantization), or its lit side would shadow itself.
+    push_.caster_offset = settings.shadow_epsilon + settings.beta + 1.0f;
+  }
+  if (method.visibility == gpu::kVisibilityShadowMaps) {
+    if (!shadow_maps_) shadow_maps_ = std::make_unique<ShadowMapPass>(context_);
+    // Jittered maps are fitted again every frame, to the light's next point.
+    const float filter = method.jittered_maps ? kJitteredMapFilterTexels : 0.0f;
+    shadow_map_lights_ = lights;
+    shadow_map_camera_ = camera;
+    shadow_maps_->setup(scene, lights, camera.world_to_view, camera.projection, settings.shadow_map_size, filter);
+    push_.shadow_map_tile_texels = uint32_t(shadow_maps_->tile_size());
+    push_.caster_offset = 0.0f;
+    push_.shadow_map_offset = 1.0f;  // a texel off their own depth in the maps
+    push_.evsm_exponents = glm::vec2(ShadowMapPass::kPositiveExponent, ShadowMapPass::kNegativeExponent);
+    push_.light_bleeding_reduction = ShadowMapPass::kLightBleedingReduction;
+    push_.map_filter_texels = filter;
+  }
+  if (method.visibility == gpu::kVisibilityRayTraced) push_.caster_offset = 0.0f;  // (rays start off the surface on their own)
   shadow_map_renders_ = 0;
   frame_ = 0;
   if (!has_history_) sequence_ = 0;
@@ -463,7 +487,7 @@ void Renderer::add_frame() {
     changed_region_.reset();  // later updates go on converging everywhere
     fine_updates_++;
     stats_.last_frame_traced_texels = fine_.read_traced_texels();
-  } else if (settings_.shadow_method == ShadowMethod::Rtsdf && has_casters_) {
+  } else if (traits(settings_.shadow_method).fields == Fields::PerMesh && has_casters_) {
     // Each field refines in its own first updates; still fields cost nothing.
     object_fields_.refine(*scene_, march_);
     update_field_memory_stats(settings_.shadow_method);
@@ -472,7 +496,8 @@ void Renderer::add_frame() {
   stats_.traced_texels += stats_.last_frame_traced_texels;
   timings_.fine_ms += ms_since(start);
   const Clock::time_point maps = Clock::now();
-  if (settings_.shadow_method == ShadowMethod::CsmJitter && has_casters_) {
+  const MethodTraits& method = traits(settings_.shadow_method);
+  if (method.jittered_maps && has_casters_) {
     // Every frame from another point of each light (sdf_updates does not stop it: the frames' mean is the penumbra).
     std::vector<Light> moved;
     const glm::vec3 target = 0.5f * (scene_->bounds().lo + scene_->bounds().hi);
@@ -480,7 +505,7 @@ void Renderer::add_frame() {
     shadow_maps_->setup(*scene_, moved, shadow_map_camera_.world_to_view, shadow_map_camera_.projection,
                         settings_.shadow_map_size, kJitteredMapFilterTexels);
     context_.submit_and_wait([&](VkCommandBuffer cmd) { shadow_maps_->record(cmd, *scene_); });
-  } else if (settings_.shadow_method == ShadowMethod::CsmEvsm && due(shadow_map_renders_)) {
+  } else if (uses_shadow_maps(settings_.shadow_method) && due(shadow_map_renders_)) {
     context_.submit_and_wait([&](VkCommandBuffer cmd) { shadow_maps_->record(cmd, *scene_); });
     shadow_map_renders_++;
   }
