@@ -160,11 +160,18 @@ struct GpuMaterial {
 
 // The temporal resolve: history reprojected into the first frame after a change.
 struct TemporalPush {
-  ivec4 image;    // x, y = size in pixels, z = light count, w = the most samples history may stand for
-  vec4 params;    // x = variance clip width (standard deviations), y = the most history samples where a moved
-                  // caster's shadow may have moved, z = relative depth a reprojected surface may differ by,
-                  // w = the sub-pixel jitter's reach (whole pixels)
-  uvec4 settle;   // x = 1: the lights and the world are as history saw them, so settled pixels keep their history
+  ivec2 image_size;            // pixels
+  int light_count;
+  int history_samples;         // the most samples history may stand for
+  float clip;                  // history is clipped to the new frame's neighbourhood mean +- this many deviations
+  float moved_shadow_clip;     // ... and this many where a moved caster's shadow may have moved (a still
+                               // receiver whose shadow changed: the colour, not the surface, moved)
+  float moved_shadow_samples;  // the most samples history stands for there
+  float depth_tolerance;       // relative depth a reprojected surface may differ by
+  float jitter_reach;          // the sub-pixel jitter's reach (whole pixels)
+  uint same_lighting;          // 1: the lights and the world are as history saw them (pixels may settle)
+  uint pad0;
+  uint pad1;
 };
 // The most samples history stands for where it matched a pixel's depth only
 // within the jitter's reach (temporal_resolve.comp).

@@ -9,20 +9,21 @@
 //   was on screen in the last frame; history is read there, bilinearly.
 // - Disocclusion: history whose depths there (the range its samples saw),
 //   and within the jitter's reach around it, miss that point's depth from the
-//   last camera (by more than params.z of it) shows another surface, and is
+//   last camera (by more than depth_tolerance of it) shows another surface, and is
 //   dropped; matched only within the reach, it counts as few samples.
 // - Clamp: history is clipped to the box of this frame's 3x3 neighbourhood,
-//   mean +- params.x standard deviations in YCoCg (Salvi's variance clipping),
+//   mean +- `clip` standard deviations in YCoCg (Salvi's variance clipping),
 //   so that what changed (a moved shadow, a lit face) cannot linger.
 // - Moved shadows: a moving shadow is not a moving surface. Where the path
 //   to a light passes the box of the casters that moved, history stands for
-//   at most params.y samples, however still the receiver.
+//   at most moved_shadow_samples samples, however still the receiver, and is
+//   clipped tighter (moved_shadow_clip): a reactive mask for the shadow.
 // - Settled pixels: under unchanged lights and world, full history that stays
 //   where it was, away from what moved, keeps its converged value; the new
 //   sample is not blended in, so still parts of the image do not shimmer
 //   during playback.
 // The accumulation's running mean then goes on from history's samples
-// (accum_passes.z), up to image.w of them.
+// (accum_passes.z), up to history_samples of them.
 #include "shared.h"
 
 layout(local_size_x = 8, local_size_y = 8) in;
@@ -73,20 +74,20 @@ bool near_change(vec3 p) {
 }
 
 // Whether history's texel q saw depth `depth`: within the range of depths
-// its samples saw (passes x to w), give or take params.z of it.
+// its samples saw (passes x to w), give or take depth_tolerance of it.
 bool same_depth(ivec2 q, float depth) {
-  vec4 range = imageLoad(history_passes, clamp(q, ivec2(0), pc.image.xy - 1));
-  return depth >= range.x * (1.0 - pc.params.z) && depth <= range.w * (1.0 + pc.params.z);
+  vec4 range = imageLoad(history_passes, clamp(q, ivec2(0), pc.image_size - 1));
+  return depth >= range.x * (1.0 - pc.depth_tolerance) && depth <= range.w * (1.0 + pc.depth_tolerance);
 }
 
-// Whether a texel within params.w pixels of q saw depth `depth`. The
-// sub-pixel jitter (up to params.w pixels, the same for every pixel of a
+// Whether a texel within jitter_reach pixels of q saw depth `depth`. The
+// sub-pixel jitter (up to jitter_reach pixels, the same for every pixel of a
 // frame) moves a silhouette by as much from frame to frame, so this frame's
 // sample may see a surface that q's samples never did though a neighbour's
 // did. Such history is uncertain (it may as well be what just moved away):
 // it counts as few samples.
 bool near_depth(ivec2 q, float depth) {
-  int reach = int(pc.params.w);
+  int reach = int(pc.jitter_reach);
   for (int dy = -reach; dy <= reach; ++dy)
     for (int dx = -reach; dx <= reach; ++dx)
       if (same_depth(q + ivec2(dx, dy), depth)) return true;
@@ -95,7 +96,7 @@ bool near_depth(ivec2 q, float depth) {
 
 void main() {
   ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
-  if (any(greaterThanEqual(pixel, pc.image.xy))) return;
+  if (any(greaterThanEqual(pixel, pc.image_size))) return;
   vec4 current = imageLoad(accum_color, pixel);
   vec4 passes = imageLoad(accum_passes, pixel);
   vec4 motion = imageLoad(g_motion, pixel);
@@ -106,7 +107,7 @@ void main() {
   if (background) {
     // The world behind everything moves with the camera alone: where this
     // pixel's ray met the far plane, seen from the last camera.
-    vec2 ndc = (vec2(pixel) + 0.5) / vec2(pc.image.xy) * 2.0 - 1.0;
+    vec2 ndc = (vec2(pixel) + 0.5) / vec2(pc.image_size) * 2.0 - 1.0;
     vec4 far_point = inverse(frame.steady_world_to_clip) * vec4(ndc, 1.0, 1.0);
     vec4 before = frame.previous_world_to_clip * vec4(far_point.xyz / far_point.w, 1.0);
     if (abs(far_point.w) < 1e-20 || before.w <= 0.0) return;
@@ -115,7 +116,7 @@ void main() {
   if (motion.w <= 0.0) return;  // (behind the last camera)
 
   // Where the surface point was: pixel centre + motion (in pixels), read bilinearly.
-  vec2 at = vec2(pixel) + 0.5 + motion.xy * 0.5 * vec2(pc.image.xy) - 0.5;
+  vec2 at = vec2(pixel) + 0.5 + motion.xy * 0.5 * vec2(pc.image_size) - 0.5;
   ivec2 base = ivec2(floor(at));
   vec2 f = at - vec2(base);
   vec4 history = vec4(0.0);
@@ -123,7 +124,7 @@ void main() {
   float history_nearest = kNothingHitDepth, history_farthest = 0.0;
   for (int k = 0; k < 4; ++k) {
     ivec2 corner = base + ivec2(k & 1, k >> 1);
-    if (any(lessThan(corner, ivec2(0))) || any(greaterThanEqual(corner, pc.image.xy))) continue;
+    if (any(lessThan(corner, ivec2(0))) || any(greaterThanEqual(corner, pc.image_size))) continue;
     vec4 before = imageLoad(history_passes, corner);
     full_samples = min(full_samples, before.z);
     if (!same_depth(corner, motion.z)) {
@@ -153,7 +154,7 @@ void main() {
     vec3 ray = frame.camera_position.w > 0.5 ? forward : normalize(position.xyz - camera);
     float depth = dot(position.xyz - camera, forward);
     vec3 history_front = position.xyz + ray * ((history_nearest - depth) / max(dot(ray, forward), 1e-3));
-    front_moved = history_nearest < depth * (1.0 - pc.params.z) && near_change(history_front);
+    front_moved = history_nearest < depth * (1.0 - pc.depth_tolerance) && near_change(history_front);
   }
 
   // The neighbourhood's mean and spread in YCoCg (this frame's samples, same coverage).
@@ -161,13 +162,17 @@ void main() {
   float count = 0.0;
   for (int dy = -1; dy <= 1; ++dy)
     for (int dx = -1; dx <= 1; ++dx) {
-      ivec2 q = clamp(pixel + ivec2(dx, dy), ivec2(0), pc.image.xy - 1);
+      ivec2 q = clamp(pixel + ivec2(dx, dy), ivec2(0), pc.image_size - 1);
       vec3 c = to_ycocg(imageLoad(accum_color, q).rgb);
       mean += c, square += c * c, count += 1.0;
     }
   mean /= count;
   vec3 sigma = sqrt(max(square / count - mean * mean, 0.0));
-  vec3 lo = mean - pc.params.x * sigma, hi = mean + pc.params.x * sigma;
+  bool shadow_moved = false;
+  for (int l = 0; l < pc.light_count && !background; ++l)
+    if (light_path_crosses_change(position.xyz, l)) shadow_moved = true;
+  float clip = shadow_moved ? pc.moved_shadow_clip : pc.clip;
+  vec3 lo = mean - clip * sigma, hi = mean + clip * sigma;
   // Clip towards the mean (not per channel), keeping history's hue where it can.
   vec3 h = to_ycocg(history.rgb), d = h - mean;
   vec3 reach = max(hi - mean, vec3(1e-6));
@@ -177,11 +182,9 @@ void main() {
   float kept = scale > 1.0 ? 1.0 / scale : 1.0;
   float shadow_history = mix(passes.y, history_shadow, kept);
 
-  float samples = min(history_samples, float(pc.image.w));
+  float samples = min(history_samples, float(pc.history_samples));
   if (front_moved) samples = min(samples, kNearbyHistorySamples);
-  bool shadow_moved = false;
-  for (int l = 0; l < pc.image.z && !background; ++l)
-    if (light_path_crosses_change(position.xyz, l)) shadow_moved = true, samples = min(samples, pc.params.y);
+  if (shadow_moved) samples = min(samples, pc.moved_shadow_samples);
   float w = 1.0 / (samples + 1.0);  // this frame's sample's share
   // Settled: under the same lights and world, a pixel whose full history
   // stays on screen where it was, out of any moved shadow and away from
@@ -191,7 +194,7 @@ void main() {
   // new sample may see a surface its history never did (the jitter goes on
   // to offsets the still frames did not take); away from what moved, that is
   // the jitter, not motion, so its full history counts here.
-  bool settled = pc.settle.x == 1u && min(full_samples, float(pc.image.w)) >= float(pc.image.w) && !shadow_moved &&
+  bool settled = pc.same_lighting == 1u && min(full_samples, float(pc.history_samples)) >= float(pc.history_samples) && !shadow_moved &&
                  !front_moved &&
                  !(!background && near_change(position.xyz)) && all(lessThan(abs(at - vec2(pixel)), vec2(1e-3)));
   if (settled) w = 0.0, clipped = history.rgb, shadow_history = history_shadow;
@@ -199,6 +202,6 @@ void main() {
   // History's depths, moved as this surface point moved in depth since.
   float moved = background ? 0.0 : passes.x - motion.z;
   imageStore(resolved_passes, pixel, vec4(min(passes.x, history_nearest + moved), mix(shadow_history, passes.y, w),
-                                          settled ? float(pc.image.w) : samples + 1.0,
+                                          settled ? float(pc.history_samples) : samples + 1.0,
                                           max(passes.w, history_farthest + moved)));
 }

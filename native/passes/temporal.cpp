@@ -24,7 +24,7 @@ void TemporalPass::record(VkCommandBuffer cmd, const GBufferPass& gbuffer, const
             vk::Resource::storage_buffer(frame), vk::Resource::storage_buffer(lights),
             vk::Resource::storage_image(images.resolved_color), vk::Resource::storage_image(images.resolved_passes)});
   pipeline_.push_constants(cmd, push);
-  vkCmdDispatch(cmd, vk::group_count(push.image.x, 8), vk::group_count(push.image.y, 8), 1);
+  vkCmdDispatch(cmd, vk::group_count(push.image_size.x, 8), vk::group_count(push.image_size.y, 8), 1);
 }
 
 }  // namespace rtsdf
