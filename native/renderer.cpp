@@ -81,19 +81,20 @@ struct Named {
   const char* name;
 };
 
-template <typename Enum, size_t N>
-Enum parse_name(const Named<Enum> (&table)[N], const std::string& name, const char* what) {
+// (any table of entries with a `value` and a `name`: Named, MethodTraits)
+template <typename Entry, size_t N>
+auto parse_name(const Entry (&table)[N], const std::string& name, const char* what) -> decltype(table[0].value) {
   std::string known;
-  for (const Named<Enum>& entry : table) {
+  for (const Entry& entry : table) {
     if (name == entry.name) return entry.value;
     known += std::string(known.empty() ? "" : ", ") + entry.name;
   }
   throw Error("unknown " + std::string(what) + " '" + name + "': use one of " + known);
 }
 
-template <typename Enum, size_t N>
-const char* name_of(const Named<Enum> (&table)[N], Enum value) {
-  for (const Named<Enum>& entry : table)
+template <typename Entry, size_t N>
+const char* name_of(const Entry (&table)[N], decltype(table[0].value) value) {
+  for (const Entry& entry : table)
     if (entry.value == value) return entry.name;
   return "unknown";
 }
@@ -109,7 +110,7 @@ enum class Fields {
 };
 
 struct MethodTraits {
-  ShadowMethod method;
+  ShadowMethod value;  // the method
   const char* name;
   Fields fields;
   uint32_t visibility;      // gpu::kVisibility*: how shade.comp looks visibility up
@@ -130,7 +131,7 @@ constexpr MethodTraits kMethods[] = {
 
 const MethodTraits& traits(ShadowMethod method) {
   for (const MethodTraits& entry : kMethods)
-    if (entry.method == method) return entry;
+    if (entry.value == method) return entry;
   throw Error("unregistered shadow method");
 }
 constexpr Named<FieldView> kFieldViewNames[] = {{FieldView::None, "none"},
@@ -190,15 +191,8 @@ ObjectFieldSettings object_field_settings(const RenderSettings& settings, const 
 
 }  // namespace
 
-ShadowMethod parse_shadow_method(const std::string& name) {
-  std::string known;
-  for (const MethodTraits& entry : kMethods) {
-    if (name == entry.name) return entry.method;
-    known += std::string(known.empty() ? "" : ", ") + entry.name;
-  }
-  throw Error("unknown shadow method '" + name + "': use one of " + known);
-}
-const char* shadow_method_name(ShadowMethod method) { return traits(method).name; }
+ShadowMethod parse_shadow_method(const std::string& name) { return parse_name(kMethods, name, "shadow method"); }
+const char* shadow_method_name(ShadowMethod method) { return name_of(kMethods, method); }
 FieldView parse_field_view(const std::string& name) { return parse_name(kFieldViewNames, name, "field view"); }
 const char* field_view_name(FieldView view) { return name_of(kFieldViewNames, view); }
 
