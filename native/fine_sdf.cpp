@@ -27,8 +27,8 @@ FineSdf::FineSdf(const vk::Context& context, std::shared_ptr<const FineTracePass
     : context_(context),
       pass_(pass ? std::move(pass) : std::make_shared<const FineTracePass>(context)),
       timer_(context, 8),
-      traced_(context, sizeof(uint32_t), VK_BUFFER_USAGE_TRANSFER_DST_BIT, vk::Buffer::Access::HostVisible) {
-  std::memset(traced_.mapped(), 0, sizeof(uint32_t));
+      traced_(context, 2 * sizeof(uint32_t), VK_BUFFER_USAGE_TRANSFER_DST_BIT, vk::Buffer::Access::HostVisible) {
+  std::memset(traced_.mapped(), 0, 2 * sizeof(uint32_t));
 }
 
 void FineSdf::allocate(const GridSpec& grid) {
@@ -43,8 +43,8 @@ void FineSdf::allocate(const GridSpec& grid) {
                            VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT |
                                VK_BUFFER_USAGE_TRANSFER_SRC_BIT,
                            vk::Buffer::Access::DeviceOnly);
-  dispatch_ = vk::Buffer(context_, 4 * sizeof(uint32_t),
-                         VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT,
+  dispatch_ = vk::Buffer(context_, 8 * sizeof(uint32_t),
+                         VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT,
                          vk::Buffer::Access::DeviceOnly);
   vk::make_general(context_, {&distance_, &history_});
   grid_ = grid;
@@ -79,8 +79,9 @@ void FineSdf::update(const GpuScene::RayTargets& rays, const CoarseSdf& coarse, 
                   settings, {frame_, frame_ == 0, changed}, &timer_);
     vk::memory_barrier(cmd, VK_ACCESS_SHADER_WRITE_BIT, VK_ACCESS_TRANSFER_READ_BIT,
                        VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT);
-    VkBufferCopy count{0, 0, sizeof(uint32_t)};
-    vkCmdCopyBuffer(cmd, trace_list_.handle(), traced_.handle(), 1, &count);
+    // (the dispatch buffer's words 3 and 4: texels traced and improved)
+    VkBufferCopy counts{3 * sizeof(uint32_t), 0, 2 * sizeof(uint32_t)};
+    vkCmdCopyBuffer(cmd, dispatch_.handle(), traced_.handle(), 1, &counts);
     vk::memory_barrier(cmd, VK_ACCESS_TRANSFER_WRITE_BIT, VK_ACCESS_HOST_READ_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT,
                        VK_PIPELINE_STAGE_HOST_BIT);
   });
@@ -100,9 +101,15 @@ std::vector<float> FineSdf::read_distance() const {
 }
 
 uint32_t FineSdf::read_traced_texels() const {
-  uint32_t count = 0;
-  std::memcpy(&count, traced_.mapped(), sizeof count);
-  return count;
+  uint32_t counts[2] = {};
+  std::memcpy(counts, traced_.mapped(), sizeof counts);
+  return counts[0];
+}
+
+uint32_t FineSdf::read_improved_texels() const {
+  uint32_t counts[2] = {};
+  std::memcpy(counts, traced_.mapped(), sizeof counts);
+  return counts[1];
 }
 
 }  // namespace rtsdf

@@ -44,6 +44,9 @@ class FineSdf {
   // Read-backs for tools and tests (x fastest).
   std::vector<float> read_distance() const;
   uint32_t read_traced_texels() const;  // texels traced in the last update (0 before any)
+  // Of those, texels whose rays found a surface a quarter voxel closer than
+  // any earlier update had (0 on a first update): how far from converged.
+  uint32_t read_improved_texels() const;
   // Device memory of the grid's images and lists.
   size_t bytes() const { return grid_.voxel_count() * kBytesPerTexel; }
   static constexpr size_t kBytesPerTexel = 4 + 16 + 4;  // distance, hit counts, trace list

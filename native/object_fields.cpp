@@ -32,9 +32,11 @@ constexpr float kDeformingSlack = 0.25f;
 // with 8 rays for it too, its fine trace 108 ms against 152; 2 rays: 0.1124.
 constexpr int kDeformingMinRays = 4;
 
-// The trace settings of a field's next update.
+// The trace settings of a field's next update: one rebuilt every frame
+// keeps its history, so its texels' convergence is never final.
 FineTraceSettings trace_settings(const FineTraceSettings& settings, bool rebuilt_every_frame) {
   FineTraceSettings trace = settings;
+  trace.skip_converged = !rebuilt_every_frame;
   if (rebuilt_every_frame)
     trace.rays_per_texel = std::min(settings.rays_per_texel, std::max(kDeformingMinRays, settings.rays_per_texel / 2));
   return trace;
@@ -246,11 +248,14 @@ void ObjectFields::refine(GpuScene& scene, MarchFields& march) {
   std::vector<Field*> updated;
   for (Field& f : fields_) {
     if (!due(f)) continue;
-    f.fine->update(scene.mesh_rays(f.mesh), *f.coarse, f.fine_grid,
-                   trace_settings(settings_.fine, settings_.keep_history && f.deforms));
-    stats_.traced_texels += f.fine->read_traced_texels();
+    const FineTraceSettings trace = trace_settings(settings_.fine, settings_.keep_history && f.deforms);
+    f.fine->update(scene.mesh_rays(f.mesh), *f.coarse, f.fine_grid, trace);
+    const uint32_t traced = f.fine->read_traced_texels(), improved = f.fine->read_improved_texels();
+    stats_.traced_texels += traced;
     stats_.refined++;
     f.updates++;
+    // Converged: this update's rays found nothing closer anywhere.
+    if (trace.skip_converged && f.updates >= 2 && improved == 0 && trace.interleave == 1) f.updates = update_limit();
     updated.push_back(&f);
   }
   if (updated.empty()) return;

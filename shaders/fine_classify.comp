@@ -8,13 +8,16 @@
 // and seed centres, is off by at most half a voxel diagonal either way, where
 // c is always low. Soft shadows read this far field: penumbrae wider than the
 // band came out too dark at their outer edge with c.
+// A still field (coarse_beta.z = 1) lists only the texels whose last trace
+// still found a closer surface (history.x, see fine_trace.comp): the rest
+// have converged, and tracing them again would change nothing.
 #include "shared.h"
 #include "seed_common.glsl.h"  // texel indices are packed like seeds
 
 layout(local_size_x = RTSDF_GROUP_X, local_size_y = RTSDF_GROUP_Y, local_size_z = RTSDF_GROUP_Z) in;
 layout(binding = 0, r32f) uniform readonly image3D coarse;
 layout(binding = 1, r32f) uniform writeonly image3D fine;
-layout(binding = 2, rgba32f) uniform writeonly image3D history;  // see fine_trace.comp
+layout(binding = 2, rgba32f) uniform image3D history;  // see fine_trace.comp
 layout(std430, binding = 3) buffer TraceList { uint trace_count; uint trace_texels[]; };
 layout(push_constant) uniform Push { FinePush pc; };
 
@@ -35,6 +38,7 @@ void main() {
     bool focused = pc.coarse_beta.y != 0.0;
     bool in_focus = all(greaterThanEqual(p, unpack_seed(pc.schedule.z))) && all(lessThanEqual(p, unpack_seed(pc.schedule.w)));
     bool my_turn = (turn + pc.schedule.y) % pc.schedule.x == 0u && (!focused || in_focus);
+    if (pc.coarse_beta.z != 0.0 && pc.coarse_dims.w == 0 && my_turn) my_turn = imageLoad(history, p).x != 0.0;
     if (pc.coarse_dims.w != 0 || my_turn) {
       uint slot = atomicAdd(trace_count, 1u);
       trace_texels[slot] = pack_seed(p);

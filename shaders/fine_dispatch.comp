@@ -1,11 +1,15 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
 // Fine SDF, step 2: turns the trace-list length into indirect dispatch sizes,
-// so that only listed texels get a thread.
+// so that only listed texels get a thread, and zeroes the count of texels
+// the trace improves.
 #include "shared.h"
 
 layout(local_size_x = 1) in;
 layout(std430, binding = 0) readonly buffer TraceList { uint trace_count; };
-layout(std430, binding = 1) writeonly buffer Dispatch { uvec4 groups; };
+layout(std430, binding = 1) writeonly buffer Dispatch { uvec4 groups; uint improved; };
 
-void main() { groups = uvec4((trace_count + RTSDF_TRACE_GROUP - 1u) / RTSDF_TRACE_GROUP, 1u, 1u, trace_count); }
+void main() {
+  groups = uvec4((trace_count + RTSDF_TRACE_GROUP - 1u) / RTSDF_TRACE_GROUP, 1u, 1u, trace_count);
+  improved = 0u;
+}

@@ -20,6 +20,10 @@
 // either side, a sheet (no thickness at all) a whole voxel: a march crossing
 // it must see a value well below zero to be blocked, and each half voxel of
 // slab widens the piece's shadow by as much.
+// Texels whose rays found a surface closer (by a quarter voxel) than all
+// earlier updates had are still improving (history.x, which the classify
+// step of a still field reads) and are counted: once none is, the field
+// has converged.
 #include "shared.h"
 #include "seed_common.glsl.h"  // texel indices are packed like seeds
 
@@ -27,10 +31,11 @@ layout(local_size_x = RTSDF_TRACE_GROUP) in;
 #include "ray_trace.glsl.h"
 layout(binding = 4, r32f) uniform readonly image3D coarse;
 layout(binding = 5, r32f) uniform image3D fine;
-layout(binding = 6, rgba32f) uniform image3D history;  // x, y unused; z: f, w: g
+layout(binding = 6, rgba32f) uniform image3D history;  // x: 1 while improving, y unused; z: f, w: g
 layout(std430, binding = 7) readonly buffer TraceList { uint trace_count; uint trace_texels[]; };
 #define RTSDF_WINDING_BINDING 8
 #include "winding_number.glsl.h"
+layout(std430, binding = 9) buffer Dispatch { uvec4 groups; uint improved; };
 layout(push_constant) uniform Push { FinePush pc; };
 
 #include "coarse_sample.glsl.h"
@@ -73,13 +78,17 @@ void main() {
   }
 
   bool first_frame = pc.coarse_dims.w != 0;
-  float alpha = pc.params.x;
+  // A still field has nothing to forget: every hit's distance bounds the
+  // texel's from above for good, and the minimum over all updates is kept.
+  float alpha = pc.coarse_beta.z != 0.0 ? 1.0 : pc.params.x;
   float target = max(c + pc.params.z, 0.0);  // params.z = 0: the paper's c_t
   vec4 previous = first_frame ? vec4(0.0, 0.0, target, pc.params.w) : imageLoad(history, p);
   bool unanimous = hits.x == 0.0 || hits.y == 0.0;
   bool inside = unanimous ? hits.y > 0.0 : inside_scene(world);
+  bool improving = first_frame || nearest < previous.z - 0.25 * pc.fine_grid.w;
+  if (improving && !first_frame) atomicAdd(improved, 1u);
   float f = min(alpha * previous.z + (1.0 - alpha) * target, nearest);
   float g = min(alpha * previous.w + (1.0 - alpha) * pc.params.w, nearest_slab);
-  imageStore(history, p, vec4(0.0, 0.0, f, g));
+  imageStore(history, p, vec4(improving ? 1.0 : 0.0, 0.0, f, g));
   imageStore(fine, p, vec4(min(inside ? -f : f, g)));
 }

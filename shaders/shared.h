@@ -94,7 +94,8 @@ struct FinePush {
   uvec4 schedule;     // x = interleave K (each band texel is traced every K-th frame), y = frame,
                       // z, w = first and last texel (packed like seeds) of the focus box, see coarse_beta.y
   vec4 coarse_beta;   // x = beta (world): coarse value + beta = the distance between voxel and seed centres,
-                      // y = 1: trace every band texel in the focus box and none elsewhere (after a local change)
+                      // y = 1: trace every band texel in the focus box and none elsewhere (after a local change),
+                      // z = 1: a still field, tracing only texels still improving
 };
 
 #define RTSDF_TRACE_GROUP 64

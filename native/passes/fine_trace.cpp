@@ -45,7 +45,7 @@ FineTracePass::FineTracePass(const vk::Context& context)
                 sizeof(gpu::FinePush)),
       prepare_dispatch_(context, RTSDF_SPIRV(spirv_fine_dispatch_comp), {kBuffer, kBuffer}, 0),
       trace_(context, RTSDF_SPIRV(spirv_fine_trace_comp),
-             {kBuffer, kBuffer, kBuffer, kBuffer, kImage, kImage, kImage, kBuffer, kBuffer}, sizeof(gpu::FinePush)) {}
+             {kBuffer, kBuffer, kBuffer, kBuffer, kImage, kImage, kImage, kBuffer, kBuffer, kBuffer}, sizeof(gpu::FinePush)) {}
 
 void FineTracePass::record(VkCommandBuffer cmd, const GpuScene::RayTargets& scene, const FineTraceFields& fields,
                            const FineTraceSettings& settings, const FineTraceTurn& turn, vk::GpuTimer* timer) const {
@@ -76,7 +76,7 @@ void FineTracePass::record(VkCommandBuffer cmd, const GpuScene::RayTargets& scen
                                : std::min(glm::length(extent), (settings.trace_band + 2.0f) * coarse_voxel + bias);
   push.params = glm::vec4(settings.decay, band, bias, ray_length);
   push.schedule = glm::uvec4(uint32_t(settings.trace_everywhere ? 1 : settings.interleave), frame, 0u, 0u);
-  push.coarse_beta = glm::vec4(beta_world, 0.0f, 0.0f, 0.0f);
+  push.coarse_beta = glm::vec4(beta_world, 0.0f, settings.skip_converged ? 1.0f : 0.0f, 0.0f);
   if (changed && !first_frame && !settings.trace_everywhere) {
     // The texels whose centres lie within a ray's reach (and a voxel) of the change.
     const glm::vec3 reach(ray_length + fine_grid.voxel_size);
@@ -115,7 +115,8 @@ void FineTracePass::record(VkCommandBuffer cmd, const GpuScene::RayTargets& scen
                                 vk::Resource::storage_buffer(scene.triangles), vk::Resource::storage_image(coarse),
                                 vk::Resource::storage_image(fine), vk::Resource::storage_image(history),
                                 vk::Resource::storage_buffer(trace_list),
-                                vk::Resource::storage_buffer(scene.winding_dipoles)});
+                                vk::Resource::storage_buffer(scene.winding_dipoles),
+                                vk::Resource::storage_buffer(dispatch)});
   trace_.push_constants(cmd, push);
   vkCmdDispatchIndirect(cmd, dispatch.handle(), 0);
   if (timer) timer->mark(cmd, "fine trace");

@@ -20,6 +20,11 @@ struct FineTraceSettings {
   // The RT-only baseline: no band. Every texel of the grid is listed (the band
   // and the interleave are ignored) and its rays are long enough to cross the grid.
   bool trace_everywhere = false;
+  // A still field (its geometry unchanged since its first update): texels
+  // keep the minimum over all updates (no decay), and after the first two
+  // updates only those whose last trace still found a closer surface are
+  // traced again. Off where geometry moves under kept history.
+  bool skip_converged = false;
 
   // The band in world units on a coarse grid of `coarse_voxel`: texels whose
   // coarse distance is at most this are traced.
@@ -36,7 +41,7 @@ struct FineTraceFields {
   const vk::Image& fine;
   const vk::Image& history;
   const vk::Buffer& trace_list;  // a count and one packed texel per fine voxel
-  const vk::Buffer& dispatch;    // the trace's indirect dispatch arguments
+  const vk::Buffer& dispatch;    // the trace's indirect dispatch arguments, then the texels traced and improved
 };
 
 // Which update this is: `frame` picks the ray set and the interleave turn;
