@@ -22,7 +22,7 @@ bool FieldKey::operator==(const FieldKey& other) const {
          fine_resolution == other.fine_resolution && beta == other.beta && updates == other.updates &&
          fine.trace_band == other.fine.trace_band && fine.decay == other.fine.decay &&
          fine.rays_per_texel == other.fine.rays_per_texel && fine.interleave == other.fine.interleave &&
-         fine.trace_everywhere == other.fine.trace_everywhere;
+         fine.trace_everywhere == other.fine.trace_everywhere && fine.skip_converged == other.fine.skip_converged;
 }
 
 uint64_t geometry_digest(const Mesh& mesh) {

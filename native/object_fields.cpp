@@ -36,7 +36,7 @@ constexpr int kDeformingMinRays = 4;
 // keeps its history, so its texels' convergence is never final.
 FineTraceSettings trace_settings(const FineTraceSettings& settings, bool rebuilt_every_frame) {
   FineTraceSettings trace = settings;
-  trace.skip_converged = !rebuilt_every_frame;
+  trace.skip_converged = settings.skip_converged && !rebuilt_every_frame;
   if (rebuilt_every_frame)
     trace.rays_per_texel = std::min(settings.rays_per_texel, std::max(kDeformingMinRays, settings.rays_per_texel / 2));
   return trace;
@@ -91,6 +91,7 @@ void ObjectFields::rebuild(GpuScene& scene, Field& field, const Bounds& bounds, 
   field.beta = settings_.beta;
   field.version = scene.mesh_version(field.mesh);
   field.updates = 0;
+  field.quiet_updates = 0;
   stats_.regenerated++;
 }
 
@@ -254,8 +255,11 @@ void ObjectFields::refine(GpuScene& scene, MarchFields& march) {
     stats_.traced_texels += traced;
     stats_.refined++;
     f.updates++;
-    // Converged: this update's rays found nothing closer anywhere.
-    if (trace.skip_converged && f.updates >= 2 && improved == 0 && trace.interleave == 1) f.updates = update_limit();
+    // Converged: once every texel was traced twice, a whole round of turns
+    // (interleave updates) in which no texel's rays found anything closer.
+    f.quiet_updates = improved == 0 ? f.quiet_updates + 1 : 0;
+    if (trace.skip_converged && f.updates > trace.interleave && f.quiet_updates >= trace.interleave)
+      f.updates = update_limit();
     updated.push_back(&f);
   }
   if (updated.empty()) return;

@@ -111,6 +111,7 @@ class ObjectFields {
     FieldKey key;                 // what it was built from
     bool borrowed = false;        // `packed` is in the FieldCache: read it, never pack or lay it out
     int updates = 0;              // since the last (re)build
+    int quiet_updates = 0;        // the last updates in a row in which no texel improved
     bool unpacked = false;        // updated since its last packing
     bool deforms = false;         // rebuilt for a deformation since it was made
     uint64_t placed_generation = 0;  // its packed words' generation when placed

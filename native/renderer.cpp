@@ -267,6 +267,7 @@ void Renderer::update_field_memory_stats(ShadowMethod method) {
 FineTraceSettings Renderer::fine_settings() const {
   FineTraceSettings fine = settings_.fine;
   if (traits(settings_.shadow_method).trace_everywhere) fine.trace_everywhere = true;
+  fine.skip_converged = false;  // (the whole scene's field follows every change: the paper's rule)
   return fine;
 }
 
@@ -336,6 +337,16 @@ void Renderer::rebuild_sdfs(GpuScene& scene, const RenderSettings& settings) {
     pack_world_field(nullptr, 0.0f);
   }
   update_field_memory_stats(method);
+}
+
+bool same_settings(const RenderSettings& a, const RenderSettings& b) {
+  auto values = [](const RenderSettings& settings) {
+    std::vector<double> out;
+    visit_settings(settings, [&](const char*, const auto& value) { out.push_back(double(value)); });
+    return out;
+  };
+  return a.shadow_method == b.shadow_method && a.field_view == b.field_view && a.keep_history == b.keep_history &&
+         values(a) == values(b);
 }
 
 void Renderer::begin(GpuScene& scene, const Camera& camera, const std::vector<Light>& lights, glm::vec3 ambient,

@@ -33,6 +33,7 @@ struct Camera {
 inline FineTraceSettings shading_fine_settings() {
   FineTraceSettings settings;
   settings.trace_band = 2.0f;
+  settings.skip_converged = true;  // (the object fields of meshes that do not deform)
   return settings;
 }
 
@@ -126,6 +127,39 @@ struct RenderSettings {
   // the rest.
   int history_samples = 0;
 };
+
+// The settings a caller names by key (the Python module's dicts), one list
+// for reading them, reporting their defaults and comparing them. (The
+// shadow method and field view go by their names; keep_history is the
+// viewport's and the final render's own.)
+template <class Settings, class Visit>
+void visit_settings(Settings& settings, Visit&& visit) {
+  visit("shadow_map_size", settings.shadow_map_size);
+  visit("field_view_height", settings.field_view_height);
+  visit("exact_rays", settings.exact_rays);
+  visit("coarse_resolution", settings.coarse_resolution);
+  visit("fine_resolution", settings.fine_resolution);
+  visit("beta", settings.beta);
+  visit("trace_band", settings.fine.trace_band);
+  visit("decay", settings.fine.decay);
+  visit("rays_per_texel", settings.fine.rays_per_texel);
+  visit("interleave", settings.fine.interleave);
+  visit("shadow_epsilon", settings.shadow_epsilon);
+  visit("shadow_max_steps", settings.shadow_max_steps);
+  visit("max_step", settings.max_step);
+  visit("samples", settings.samples);
+  visit("filter_width", settings.filter_width);
+  visit("sdf_updates", settings.sdf_updates);
+  visit("grid_slack", settings.grid_slack);
+  visit("field_budget_mb", settings.field_budget_mb);
+  visit("quick_first_frame", settings.quick_first_frame);
+  visit("temporal_reuse", settings.temporal_reuse);
+  visit("history_samples", settings.history_samples);
+}
+
+// Whether two settings draw the same: every visited setting, the method,
+// the field view and keep_history.
+bool same_settings(const RenderSettings& a, const RenderSettings& b);
 
 // What the SDF methods did, for the stats a user sees.
 struct RenderStats {

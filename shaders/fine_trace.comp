@@ -20,10 +20,9 @@
 // either side, a sheet (no thickness at all) a whole voxel: a march crossing
 // it must see a value well below zero to be blocked, and each half voxel of
 // slab widens the piece's shadow by as much.
-// Texels whose rays found a surface closer (by a quarter voxel) than all
-// earlier updates had are still improving (history.x, which the classify
-// step of a still field reads) and are counted: once none is, the field
-// has converged.
+// Texels whose rays found a surface closer (by a quarter voxel) than their
+// value are still improving (history.x, which the classify step of a still
+// field reads) and are counted: once none is, the field has converged.
 #include "shared.h"
 #include "seed_common.glsl.h"  // texel indices are packed like seeds
 
@@ -78,14 +77,13 @@ void main() {
   }
 
   bool first_frame = pc.coarse_dims.w != 0;
-  // A still field has nothing to forget: every hit's distance bounds the
-  // texel's from above for good, and the minimum over all updates is kept.
-  float alpha = pc.coarse_beta.z != 0.0 ? 1.0 : pc.params.x;
+  float alpha = pc.params.x;
   float target = max(c + pc.params.z, 0.0);  // params.z = 0: the paper's c_t
   vec4 previous = first_frame ? vec4(0.0, 0.0, target, pc.params.w) : imageLoad(history, p);
   bool unanimous = hits.x == 0.0 || hits.y == 0.0;
   bool inside = unanimous ? hits.y > 0.0 : inside_scene(world);
-  bool improving = first_frame || nearest < previous.z - 0.25 * pc.fine_grid.w;
+  // (a quarter voxel closer to a surface, or to a thin piece's slab)
+  bool improving = first_frame || min(nearest - previous.z, nearest_slab - previous.w) < -0.25 * pc.fine_grid.w;
   if (improving && !first_frame) atomicAdd(improved, 1u);
   float f = min(alpha * previous.z + (1.0 - alpha) * target, nearest);
   float g = min(alpha * previous.w + (1.0 - alpha) * pc.params.w, nearest_slab);

@@ -20,10 +20,10 @@ struct FineTraceSettings {
   // The RT-only baseline: no band. Every texel of the grid is listed (the band
   // and the interleave are ignored) and its rays are long enough to cross the grid.
   bool trace_everywhere = false;
-  // A still field (its geometry unchanged since its first update): texels
-  // keep the minimum over all updates (no decay), and after the first two
-  // updates only those whose last trace still found a closer surface are
-  // traced again. Off where geometry moves under kept history.
+  // A still field (its geometry unchanged since its first update): after
+  // the first two updates, only texels whose last trace still found a
+  // closer surface are traced again. Object fields only, and not where a
+  // deforming mesh keeps its history.
   bool skip_converged = false;
 
   // The band in world units on a coarse grid of `coarse_voxel`: texels whose

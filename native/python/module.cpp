@@ -3,54 +3,22 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
-#include <array>
 #include <type_traits>
 #include <cstring>
-#include <chrono>
 #include <memory>
 
 #include "coarse_sdf.h"
 #include "exr_output.h"
 #include "field_cache.h"
+#include "kept_scene.h"
 #include "renderer.h"
+#include "viewport.h"
 #include "version.h"
 #include "vk/context.h"
 
 namespace py = pybind11;
 
 namespace {
-
-// Appends bytes that differ whenever `value` does: numpy arrays by their
-// dtype, shape and contents (their repr rounds, elides large arrays and
-// follows np.set_printoptions), dicts, lists and tuples item by item, and
-// anything else by its repr (exact for Python's numbers and strings).
-void append_fingerprint(std::string& out, py::handle value) {
-  if (py::isinstance<py::array>(value)) {
-    py::array array = py::array::ensure(value, py::array::c_style);
-    out += "array(" + py::str(array.dtype()).cast<std::string>();
-    for (py::ssize_t i = 0; i < array.ndim(); ++i) out += "," + std::to_string(array.shape(i));
-    out += "):";
-    out.append(static_cast<const char*>(array.data()), size_t(array.nbytes()));
-  } else if (py::isinstance<py::dict>(value)) {
-    out += "{";
-    for (auto item : py::reinterpret_borrow<py::dict>(value)) {
-      append_fingerprint(out, item.first);
-      out += ":";
-      append_fingerprint(out, item.second);
-      out += ",";
-    }
-    out += "}";
-  } else if (py::isinstance<py::list>(value) || py::isinstance<py::tuple>(value)) {
-    out += "[";
-    for (py::handle item : value) {
-      append_fingerprint(out, item);
-      out += ",";
-    }
-    out += "]";
-  } else {
-    out += py::repr(value).cast<std::string>();
-  }
-}
 
 py::dict describe(const rtsdf::vk::DeviceInfo& info) {
   py::dict d;
@@ -231,46 +199,17 @@ rtsdf::Camera camera_of(const py::dict& camera_desc) {
   return camera;
 }
 
-// The settings a Python dict can set, by key: one list that reads them
-// (settings_of) and reports their defaults (default_settings), so the
-// add-on's defaults can be checked against these.
-template <class Visit>
-void visit_settings(rtsdf::RenderSettings& settings, Visit&& visit) {
-  visit("shadow_map_size", settings.shadow_map_size);
-  visit("field_view_height", settings.field_view_height);
-  visit("exact_rays", settings.exact_rays);
-  visit("coarse_resolution", settings.coarse_resolution);
-  visit("fine_resolution", settings.fine_resolution);
-  visit("beta", settings.beta);
-  visit("trace_band", settings.fine.trace_band);
-  visit("decay", settings.fine.decay);
-  visit("rays_per_texel", settings.fine.rays_per_texel);
-  visit("interleave", settings.fine.interleave);
-  visit("shadow_epsilon", settings.shadow_epsilon);
-  visit("shadow_max_steps", settings.shadow_max_steps);
-  visit("max_step", settings.max_step);
-  visit("samples", settings.samples);
-  visit("filter_width", settings.filter_width);
-  visit("sdf_updates", settings.sdf_updates);
-  visit("grid_slack", settings.grid_slack);
-  visit("field_budget_mb", settings.field_budget_mb);
-  visit("quick_first_frame", settings.quick_first_frame);
-  visit("temporal_reuse", settings.temporal_reuse);
-  visit("history_samples", settings.history_samples);
-}
-
-// Room a viewport's grids keep around the shadow casters, as a share of their extent.
-constexpr float kViewportGridSlack = 0.5f;
-
-rtsdf::RenderSettings settings_of(const py::dict& settings_desc) {
-  rtsdf::RenderSettings settings;
+// The settings a dict names (rtsdf::visit_settings' keys, shadow_method and
+// field_view), the others as in `defaults`.
+rtsdf::RenderSettings settings_of(const py::dict& settings_desc, rtsdf::RenderSettings defaults = {}) {
+  rtsdf::RenderSettings settings = defaults;
   // "rtsdf", "rtsdf_world", "rt_only", "jfa_only", "csm_evsm", "csm_jitter" or "raytraced"; anything else is an rtsdf.Error.
   settings.shadow_method = rtsdf::parse_shadow_method(
       get<std::string>(settings_desc, "shadow_method", rtsdf::shadow_method_name(settings.shadow_method)));
   // "none", "distance_slice", "march_steps", "field_resolution" or "exact_rays"; anything else is an rtsdf.Error.
   settings.field_view = rtsdf::parse_field_view(
       get<std::string>(settings_desc, "field_view", rtsdf::field_view_name(settings.field_view)));
-  visit_settings(settings, [&](const char* key, auto& value) {
+  rtsdf::visit_settings(settings, [&](const char* key, auto& value) {
     value = get<std::remove_reference_t<decltype(value)>>(settings_desc, key, value);
   });
   return settings;
@@ -281,7 +220,7 @@ py::dict default_settings() {
   py::dict defaults;
   defaults["shadow_method"] = rtsdf::shadow_method_name(settings.shadow_method);
   defaults["field_view"] = rtsdf::field_view_name(settings.field_view);
-  visit_settings(settings, [&](const char* key, auto& value) { defaults[key] = value; });
+  rtsdf::visit_settings(settings, [&](const char* key, auto& value) { defaults[key] = value; });
   return defaults;
 }
 
@@ -323,108 +262,63 @@ py::array_t<float> image_of(const std::vector<float>& values, int height, int wi
   return image;
 }
 
-// A viewport's own scene and renderer on a session's device: synced
-// incrementally, accumulating progressively.
+// A viewport (rtsdf::Viewport) on a session's device: dicts in, dicts out.
 class Viewport {
  public:
   Viewport(std::shared_ptr<rtsdf::vk::Context> context, std::shared_ptr<rtsdf::FieldCache> field_cache)
-      : context_(std::move(context)), field_cache_(std::move(field_cache)), renderer_(*context_, field_cache_) {}
+      : context_(std::move(context)), viewport_(*context_, std::move(field_cache)) {}
 
-  // the whole scene (meshes and instances), after a change in what
-  // exists. Later changes come through set_transforms and set_mesh.
   void sync(const py::dict& scene_desc) {
     rtsdf::Scene scene = scene_of(scene_desc);
     py::gil_scoped_release release;
-    scene_.reset();  // (frees the old one first)
-    scene_ = std::make_unique<rtsdf::GpuScene>(*context_, scene);
-    changed_ = true;
+    viewport_.sync(scene);
   }
 
-  // new transforms for every instance, in sync's order.
   void set_transforms(const py::list& matrices) {
     std::vector<glm::mat4> transforms;
     for (const py::handle& m : matrices) transforms.push_back(mat4_of(m));
     py::gil_scoped_release release;
-    scene_for_update().set_transforms(transforms);
-    changed_ = true;
+    viewport_.set_transforms(transforms);
   }
 
-  // new vertex positions of one mesh (same vertex count and triangles).
   void set_mesh(uint32_t mesh, py::array_t<float, py::array::c_style | py::array::forcecast> positions) {
     if (positions.ndim() != 2 || positions.shape(1) != 3) throw rtsdf::Error("positions must have shape (N, 3)");
     std::vector<glm::vec3> points;
     for (py::ssize_t i = 0; i < positions.shape(0); ++i)
       points.emplace_back(positions.at(i, 0), positions.at(i, 1), positions.at(i, 2));
     py::gil_scoped_release release;
-    scene_for_update().set_mesh_positions(mesh, points);
-    changed_ = true;
+    viewport_.set_mesh_positions(mesh, points);
   }
 
-  // new geometry of one mesh (as sync's meshes give it), in its place.
   void set_mesh_geometry(uint32_t mesh, const py::dict& mesh_desc) {
     rtsdf::Mesh geometry = mesh_of(mesh_desc);
     py::gil_scoped_release release;
-    scene_for_update().set_mesh(mesh, std::move(geometry));
-    changed_ = true;
+    viewport_.set_mesh(mesh, std::move(geometry));
   }
 
-  // one accumulation frame of the view (camera, lights, ambient,
-  // width, height). A changed scene, view or setting starts the accumulation
-  // afresh; once settings["samples"] frames are in and the fields have
-  // stopped refining, nothing more is done.
   py::dict draw(const py::dict& view_desc, const py::dict& settings_desc) {
-    if (!scene_) throw rtsdf::Error("draw: call sync first");
-    std::vector<rtsdf::Light> lights = lights_of(view_desc["lights"].cast<py::list>());
-    rtsdf::Camera camera = camera_of(view_desc["camera"].cast<py::dict>());
-    const int width = view_desc["width"].cast<int>(), height = view_desc["height"].cast<int>();
-    const glm::vec3 ambient = vec3_of(view_desc["ambient"]);
-    rtsdf::RenderSettings settings = settings_of(settings_desc);
-    // The viewport's policy, here for every caller (the add-on, the benches):
-    // the paper's frame-to-frame reuse (the decay forgets what moved), the
-    // fields updated in every frame until they converge, and room around the
-    // casters so that an object moving a little keeps its grid and history.
-    settings.keep_history = true;
-    settings.sdf_updates = 0;
-    if (!settings_desc.contains("grid_slack")) settings.grid_slack = kViewportGridSlack;
-    // What the image depends on besides the scene, to tell whether it changed.
-    std::string key;
-    append_fingerprint(key, view_desc);
-    append_fingerprint(key, settings_desc);
-    bool advanced = false;
-    rtsdf::RenderOutput out;
-    std::array<double, 3> draw_ms{};  // begin, frame, read
+    rtsdf::View view;
+    view.lights = lights_of(view_desc["lights"].cast<py::list>());
+    view.camera = camera_of(view_desc["camera"].cast<py::dict>());
+    view.width = view_desc["width"].cast<int>();
+    view.height = view_desc["height"].cast<int>();
+    view.ambient = vec3_of(view_desc["ambient"]);
+    const rtsdf::RenderSettings settings = settings_of(settings_desc, rtsdf::Viewport::default_settings());
+    rtsdf::ViewportFrame frame;
     {
       py::gil_scoped_release release;
-      using Clock = std::chrono::steady_clock;
-      auto t0 = Clock::now();
-      if (changed_ || key != key_) {
-        renderer_.begin(*scene_, camera, lights, ambient, width, height, settings, changed_);
-        changed_ = false;
-        key_ = key;
-      }
-      auto t1 = Clock::now();
-      if (renderer_.frames() < settings.samples || renderer_.refining()) {
-        renderer_.add_frame();
-        advanced = true;
-      }
-      auto t2 = Clock::now();
-      out = renderer_.read(/*passes=*/settings.temporal_reuse);  // (the samples per pixel: the passes' third)
-      auto t3 = Clock::now();
-      auto ms = [](Clock::time_point a, Clock::time_point b) { return std::chrono::duration<double, std::milli>(b - a).count(); };
-      draw_ms = {ms(t0, t1), ms(t1, t2), ms(t2, t3)};
+      frame = viewport_.draw(view, settings);
     }
     py::dict result;
-    result["combined"] = image_of(out.combined, height, width, 4);  // rows top to bottom
-    result["frames"] = out.samples_done;
-    // The samples this frame's pixels stand for on average (with temporal
-    // reuse, history's too; else the frames).
-    result["effective_samples"] = settings.temporal_reuse ? out.effective_samples : double(out.samples_done);
-    result["converged"] = out.samples_done >= settings.samples && !renderer_.refining();
-    result["advanced"] = advanced;
-    // Wall time of this call: starting afresh (SDF rebuild after a change), the frame, the read-back.
-    result["draw_ms"] = py::dict(py::arg("begin") = draw_ms[0], py::arg("frame") = draw_ms[1], py::arg("read") = draw_ms[2]);
-    result["ms"] = timings_of(out.timings);
-    result["stats"] = stats_of(out.stats);
+    result["combined"] = image_of(frame.image.combined, view.height, view.width, 4);  // rows top to bottom
+    result["frames"] = frame.image.samples_done;
+    result["effective_samples"] = frame.effective_samples;
+    result["converged"] = frame.converged;
+    result["advanced"] = frame.advanced;
+    result["draw_ms"] = py::dict(py::arg("begin") = frame.begin_ms, py::arg("frame") = frame.frame_ms,
+                                 py::arg("read") = frame.read_ms);
+    result["ms"] = timings_of(frame.image.timings);
+    result["stats"] = stats_of(frame.image.stats);
     result["validation_messages"] = context_->validation_message_count();
     return result;
   }
@@ -435,8 +329,8 @@ class Viewport {
   // texels from the bricks near surfaces and the far field elsewhere (see
   // PackedField). None before the first fine-SDF update.
   py::object fine_sdf(uint32_t mesh) const {
-    const rtsdf::PackedField* own = renderer_.mesh_field(mesh);
-    const rtsdf::PackedField* field = own ? own : renderer_.world_field();
+    const rtsdf::PackedField* own = viewport_.renderer().mesh_field(mesh);
+    const rtsdf::PackedField* field = own ? own : viewport_.renderer().world_field();
     if (!field) return py::none();
     const rtsdf::GridSpec grid = field->grid();
     std::vector<float> values;
@@ -452,17 +346,8 @@ class Viewport {
   }
 
  private:
-  rtsdf::GpuScene& scene_for_update() {
-    if (!scene_) throw rtsdf::Error("call sync before updating the viewport's scene");
-    return *scene_;
-  }
-
   std::shared_ptr<rtsdf::vk::Context> context_;  // (declared first: destroyed last)
-  std::shared_ptr<rtsdf::FieldCache> field_cache_;  // the session's
-  rtsdf::Renderer renderer_;
-  std::unique_ptr<rtsdf::GpuScene> scene_;
-  bool changed_ = true;
-  std::string key_;
+  rtsdf::Viewport viewport_;
 };
 
 // One Vulkan context kept between renders. Final renders keep their scene
@@ -472,7 +357,8 @@ class Session {
   Session()
       : context_(std::make_shared<rtsdf::vk::Context>()),
         field_cache_(std::make_shared<rtsdf::FieldCache>(field_cache_capacity(*context_))),
-        renderer_(*context_, field_cache_) {}
+        renderer_(*context_, field_cache_),
+        kept_scene_(*context_) {}
 
   std::unique_ptr<Viewport> viewport() const { return std::make_unique<Viewport>(context_, field_cache_); }
 
@@ -523,25 +409,10 @@ class Session {
     bool reused = false;
     {
       py::gil_scoped_release release;
-      reused = persistent && gpu_scene_ && same_shapes(scene);
-      if (reused) {
-        // (smooth normals evaluated again differ in their last bits: new normals reach the rasterizer only)
-        for (size_t m = 0; m < meshes_.size(); ++m)
-          if (scene.meshes[m].normals != meshes_[m].normals) {
-            gpu_scene_->set_mesh(uint32_t(m), scene.meshes[m]);
-            meshes_[m].normals = scene.meshes[m].normals;
-          }
-        std::vector<glm::mat4> transforms;
-        for (const rtsdf::Instance& instance : scene.instances) transforms.push_back(instance.object_to_world);
-        gpu_scene_->set_transforms(transforms);
-      } else {
-        gpu_scene_ = std::make_unique<rtsdf::GpuScene>(*context_, scene);
-        meshes_ = scene.meshes;
-        instances_ = scene.instances;
-        textures_ = scene.textures;
-      }
-      out = renderer_.render(*gpu_scene_, camera, lights, ambient, width, height, settings, report);
-      if (!persistent) gpu_scene_.reset();
+      if (!persistent) kept_scene_.clear();
+      reused = kept_scene_.update(scene);
+      out = renderer_.render(kept_scene_.gpu(), camera, lights, ambient, width, height, settings, report);
+      if (!persistent) kept_scene_.clear();
     }
     py::dict result;
     result["combined"] = image_of(out.combined, height, width, 4);  // rows top to bottom
@@ -558,29 +429,6 @@ class Session {
   }
 
  private:
-  // The same mesh shapes (vertices, triangles, material slots, UVs) and
-  // instances of the same meshes, colours, materials and shadow and
-  // visibility flags, and the same images, as the scene on the device: only
-  // transforms and normals may differ.
-  bool same_shapes(const rtsdf::Scene& scene) const {
-    if (scene.meshes.size() != meshes_.size() || scene.instances.size() != instances_.size() ||
-        scene.textures != textures_)
-      return false;
-    for (size_t m = 0; m < meshes_.size(); ++m)
-      if (scene.meshes[m].positions != meshes_[m].positions || scene.meshes[m].indices != meshes_[m].indices ||
-          scene.meshes[m].materials != meshes_[m].materials || scene.meshes[m].uvs != meshes_[m].uvs ||
-          scene.meshes[m].colors != meshes_[m].colors)
-        return false;
-    for (size_t i = 0; i < instances_.size(); ++i)
-      if (scene.instances[i].mesh != instances_[i].mesh || scene.instances[i].base_color != instances_[i].base_color ||
-          scene.instances[i].materials != instances_[i].materials ||
-          scene.instances[i].casts_shadow != instances_[i].casts_shadow ||
-          scene.instances[i].visible_to_camera != instances_[i].visible_to_camera ||
-          scene.instances[i].holdout != instances_[i].holdout)
-        return false;
-    return true;
-  }
-
   // Refined fields kept for the next renders: an eighth of the device's memory, at most 512 MiB.
   static size_t field_cache_capacity(const rtsdf::vk::Context& context) {
     return std::min<size_t>(size_t(512) << 20, context.device_local_heap_bytes() / 8);
@@ -589,10 +437,7 @@ class Session {
   std::shared_ptr<rtsdf::vk::Context> context_;
   std::shared_ptr<rtsdf::FieldCache> field_cache_;  // shared with its viewports
   rtsdf::Renderer renderer_;
-  std::unique_ptr<rtsdf::GpuScene> gpu_scene_;  // kept between persistent renders
-  std::vector<rtsdf::Mesh> meshes_;
-  std::vector<rtsdf::Instance> instances_;
-  std::vector<rtsdf::Texture> textures_;
+  rtsdf::KeptScene kept_scene_;  // between persistent renders
 };
 
 }  // namespace

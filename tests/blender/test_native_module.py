@@ -109,16 +109,19 @@ class NativeModuleInBlender(unittest.TestCase):
         outside, centre = at((0.0, 0.0, 1.0 + 1.5 * voxel))
         self.assertAlmostEqual(outside, centre[2] - 1.0, delta=0.5 * voxel)
 
-        # Moved after 3 of its 8 updates: the field keeps refining (a move
-        # costs it nothing), and the viewport keeps drawing past its 3 samples
-        # until the field is done, then stops.
+        # Moved after 3 of its at most 8 updates: the field keeps refining (a
+        # move costs it nothing), and the viewport keeps drawing past its 3
+        # samples until the field is done (its 8 updates, or sooner once a
+        # whole round of turns found nothing closer), then stops.
         moved = eye.copy()
         moved[0, 3] = 0.5
         viewport.set_transforms([moved])
         draws = [viewport.draw(view, settings) for _ in range(12)]
-        self.assertEqual([d["advanced"] for d in draws], [True] * 5 + [False] * 7)
-        self.assertEqual([d["converged"] for d in draws], [False] * 4 + [True] * 8)
-        self.assertTrue(all(d["stats"]["last_frame_traced_texels"] > 0 for d in draws[:5]))
+        advanced = sum(d["advanced"] for d in draws)
+        self.assertTrue(1 <= advanced <= 5, advanced)
+        self.assertEqual([d["advanced"] for d in draws], [True] * advanced + [False] * (12 - advanced))
+        self.assertEqual([d["converged"] for d in draws], [False] * (advanced - 1) + [True] * (13 - advanced))
+        self.assertGreater(draws[0]["stats"]["last_frame_traced_texels"], 0)
         self.assertEqual([d["stats"]["fields_regenerated"] for d in draws], [0] * 12)
         viewport.set_transforms([eye])
         still = viewport.draw(view, settings)["stats"]

@@ -9,6 +9,7 @@
 
 #include "error.h"
 #include "march_fields.h"
+#include "mesh_import.h"
 #include "reference/shapes.h"
 #include "renderer.h"
 #include "vulkan_test.h"
@@ -195,6 +196,56 @@ TEST_F(ObjectFieldsTest, NewTrianglesReplaceTheMeshInPlace) {
   EXPECT_EQ(view.renderer.stats().fields_regenerated, 1) << "only the box's field is rebuilt";
   view.renderer.add_frame();
   EXPECT_GT(view.renderer.stats().last_frame_traced_texels, 0u);
+}
+
+// A still field retraces only its texels still improving (FineTraceSettings::
+// skip_converged): about half the rays, and the shadows of a CAD part and of
+// leaf cards (thin pieces, read as slabs) no further from raytraced's than
+// with every texel retraced.
+TEST_F(ObjectFieldsTest, SkippingConvergedTexelsKeepsTheShadowsForFewerRays) {
+  Scene scene;
+  Scene part = import_scene(testing::test_mesh_path());
+  glm::vec3 lo(1e30f), hi(-1e30f);
+  for (const glm::vec3& p : part.meshes[0].positions) lo = glm::min(lo, p), hi = glm::max(hi, p);
+  const glm::vec3 extent = hi - lo;
+  const float fit = 1.6f / std::max(extent.x, std::max(extent.y, extent.z));
+  scene.meshes = {part.meshes[0], reference::sheet({-6, -6}, {6, 6}, 0.0f)};
+  scene.instances = {{0, glm::translate(glm::mat4(1.0f), {-0.6f, 0, 0.4f}) * glm::scale(glm::mat4(1.0f), glm::vec3(fit)) *
+                             glm::translate(glm::mat4(1.0f), -0.5f * (lo + hi))},
+                     {1, glm::mat4(1.0f)}};
+  for (int i = 0; i < 4; ++i) {
+    scene.meshes.push_back(reference::sheet({-0.15f, -0.15f}, {0.15f, 0.15f}, 0.0f));
+    const glm::mat4 place = glm::translate(glm::mat4(1.0f), glm::vec3(0.9f + 0.2f * (i % 2), -0.9f + 0.5f * i, 0.7f));
+    scene.instances.push_back({uint32_t(i + 2), place * glm::rotate(glm::mat4(1.0f), 0.4f * float(i), glm::vec3(1, 0, 0))});
+  }
+  GpuScene gpu_scene(context(), scene);
+  Light sun = overhead_sun();
+  sun.sun_angle = 0.05f;
+  auto render = [&](ShadowMethod method, int samples, bool skip_converged) {
+    RenderSettings settings;
+    settings.shadow_method = method;
+    settings.samples = samples;
+    settings.fine.skip_converged = skip_converged;
+    Renderer renderer(context());
+    return renderer.render(gpu_scene, top_view(2.0f), {sun}, glm::vec3(0.0f), 96, 96, settings);
+  };
+  const std::vector<float> exact = render(ShadowMethod::RayTraced, 64, false).shadow;
+  auto error = [&](const std::vector<float>& shadow) {  // mean |shadow - exact| where either shows a shadow
+    double sum = 0.0;
+    int count = 0;
+    for (size_t i = 0; i < exact.size(); ++i)
+      if (std::min(exact[i], shadow[i]) < 0.9f) sum += std::abs(shadow[i] - exact[i]), ++count;
+    EXPECT_GT(count, 400) << "shadows in view";
+    return sum / std::max(count, 1);
+  };
+  const RenderOutput full = render(ShadowMethod::Rtsdf, 8, false), skipping = render(ShadowMethod::Rtsdf, 8, true);
+  const double full_error = error(full.shadow), skipping_error = error(skipping.shadow);
+  std::printf("mean |visibility - raytraced's| in the shadows: retracing every texel %.4f (%lu texels traced), "
+              "skipping converged ones %.4f (%lu)\n",
+              full_error, (unsigned long)full.stats.traced_texels, skipping_error,
+              (unsigned long)skipping.stats.traced_texels);
+  EXPECT_LE(skipping_error, full_error + 0.01);
+  EXPECT_LE(double(skipping.stats.traced_texels), 0.6 * double(full.stats.traced_texels));
 }
 
 // A scaled sphere's shadow against the same ellipsoid baked into the mesh

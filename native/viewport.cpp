@@ -1,0 +1,97 @@
+#include "viewport.h"
+
+#include <chrono>
+
+#include "error.h"
+
+namespace rtsdf {
+
+namespace {
+
+bool same_light(const Light& a, const Light& b) {
+  return a.type == b.type && a.position == b.position && a.direction == b.direction && a.color == b.color &&
+         a.energy == b.energy && a.sun_angle == b.sun_angle && a.radius == b.radius && a.spot_size == b.spot_size &&
+         a.spot_blend == b.spot_blend && a.casts_shadow == b.casts_shadow;
+}
+
+double ms_between(std::chrono::steady_clock::time_point a, std::chrono::steady_clock::time_point b) {
+  return std::chrono::duration<double, std::milli>(b - a).count();
+}
+
+}  // namespace
+
+bool View::operator==(const View& other) const {
+  if (lights.size() != other.lights.size()) return false;
+  for (size_t i = 0; i < lights.size(); ++i)
+    if (!same_light(lights[i], other.lights[i])) return false;
+  return camera.world_to_view == other.camera.world_to_view && camera.projection == other.camera.projection &&
+         camera.orthographic == other.camera.orthographic && ambient == other.ambient && width == other.width &&
+         height == other.height;
+}
+
+RenderSettings Viewport::default_settings() {
+  RenderSettings settings;
+  settings.grid_slack = kGridSlack;
+  return settings;
+}
+
+Viewport::Viewport(const vk::Context& context, std::shared_ptr<FieldCache> field_cache)
+    : context_(context), renderer_(context, std::move(field_cache)) {}
+
+GpuScene& Viewport::scene_for_update() {
+  if (!scene_) throw Error("call sync before updating the viewport's scene");
+  return *scene_;
+}
+
+void Viewport::sync(const Scene& scene) {
+  scene_.reset();  // (frees the old one first)
+  scene_ = std::make_unique<GpuScene>(context_, scene);
+  scene_changed_ = true;
+}
+
+void Viewport::set_transforms(const std::vector<glm::mat4>& object_to_world) {
+  scene_for_update().set_transforms(object_to_world);
+  scene_changed_ = true;
+}
+
+void Viewport::set_mesh_positions(uint32_t mesh, const std::vector<glm::vec3>& positions) {
+  scene_for_update().set_mesh_positions(mesh, positions);
+  scene_changed_ = true;
+}
+
+void Viewport::set_mesh(uint32_t mesh, Mesh geometry) {
+  scene_for_update().set_mesh(mesh, std::move(geometry));
+  scene_changed_ = true;
+}
+
+ViewportFrame Viewport::draw(const View& view, const RenderSettings& requested) {
+  if (!scene_) throw Error("draw: call sync first");
+  RenderSettings settings = requested;
+  settings.keep_history = true;
+  settings.sdf_updates = 0;
+  using Clock = std::chrono::steady_clock;
+  ViewportFrame frame;
+  const Clock::time_point start = Clock::now();
+  if (scene_changed_ || !drawn_ || view != drawn_view_ || !same_settings(settings, drawn_settings_)) {
+    renderer_.begin(*scene_, view.camera, view.lights, view.ambient, view.width, view.height, settings, scene_changed_);
+    scene_changed_ = false;
+    drawn_ = true;
+    drawn_view_ = view;
+    drawn_settings_ = settings;
+  }
+  const Clock::time_point begun = Clock::now();
+  if (renderer_.frames() < settings.samples || renderer_.refining()) {
+    renderer_.add_frame();
+    frame.advanced = true;
+  }
+  const Clock::time_point added = Clock::now();
+  frame.image = renderer_.read(/*passes=*/settings.temporal_reuse);  // (the samples per pixel: the passes' third)
+  frame.begin_ms = ms_between(start, begun);
+  frame.frame_ms = ms_between(begun, added);
+  frame.read_ms = ms_between(added, Clock::now());
+  frame.converged = frame.image.samples_done >= settings.samples && !renderer_.refining();
+  frame.effective_samples = settings.temporal_reuse ? frame.image.effective_samples : double(frame.image.samples_done);
+  return frame;
+}
+
+}  // namespace rtsdf

@@ -1,0 +1,112 @@
+// Where a change is decided: the settings compared over their one key list,
+// a viewport restarting its accumulation only when its view, settings or
+// scene changed, and a kept scene updated in place only when its shapes
+// are the same.
+#include <glm/gtc/matrix_transform.hpp>
+
+#include "kept_scene.h"
+#include "reference/shapes.h"
+#include "viewport.h"
+#include "vulkan_test.h"
+
+namespace rtsdf {
+namespace {
+
+TEST(SameSettings, EveryNamedSettingAndTheMethodCount) {
+  const RenderSettings base;
+  EXPECT_TRUE(same_settings(base, base));
+  int keys = 0;
+  visit_settings(const_cast<RenderSettings&>(base), [&](const char* key, const auto&) {
+    RenderSettings changed = base;
+    int index = 0;
+    visit_settings(changed, [&](const char*, auto& value) {
+      if (index++ == keys) value = value + 1;
+    });
+    EXPECT_FALSE(same_settings(base, changed)) << key;
+    keys++;
+  });
+  EXPECT_GT(keys, 15);
+  RenderSettings method = base, view = base, history = base;
+  method.shadow_method = ShadowMethod::CsmEvsm;
+  view.field_view = FieldView::MarchSteps;
+  history.keep_history = !base.keep_history;
+  EXPECT_FALSE(same_settings(base, method));
+  EXPECT_FALSE(same_settings(base, view));
+  EXPECT_FALSE(same_settings(base, history));
+}
+
+class ViewportTest : public testing::VulkanTest {
+ protected:
+  static Scene sphere_on_ground() {
+    Scene scene;
+    scene.meshes.push_back(reference::uv_sphere({0, 0, 1}, 1.0f, 24));
+    scene.meshes.push_back(reference::box({-4, -4, -0.2f}, {4, 4, 0}));
+    scene.instances.push_back({0, glm::mat4(1.0f)});
+    scene.instances.push_back({1, glm::mat4(1.0f)});
+    return scene;
+  }
+  static View top_view() {
+    View view;
+    view.camera.world_to_view = glm::lookAt(glm::vec3(0, -6, 8), glm::vec3(0), glm::vec3(0, 0, 1));
+    view.camera.projection = glm::perspectiveRH_NO(0.8f, 1.0f, 0.1f, 50.0f);
+    Light sun;
+    sun.direction = glm::normalize(glm::vec3(0.3f, 0.2f, -1.0f));
+    sun.sun_angle = 0.05f;
+    view.lights = {sun};
+    view.ambient = glm::vec3(0.1f);
+    view.width = view.height = 32;
+    return view;
+  }
+};
+
+TEST_F(ViewportTest, OnlyAChangedViewSettingOrSceneRestartsTheAccumulation) {
+  Viewport viewport(context(), nullptr);
+  viewport.sync(sphere_on_ground());
+  RenderSettings settings = Viewport::default_settings();
+  settings.samples = 2;
+  settings.coarse_resolution = 16;
+  settings.fine_resolution = 32;
+  const View view = top_view();
+  ViewportFrame frame;
+  for (int draw = 0; draw < 64 && !frame.converged; ++draw) frame = viewport.draw(view, settings);
+  ASSERT_TRUE(frame.converged);
+  EXPECT_FALSE(viewport.draw(view, settings).advanced) << "converged, nothing changed: no work";
+
+  View moved = view;
+  moved.camera.world_to_view[3][2] -= 1e-5f;
+  frame = viewport.draw(moved, settings);
+  EXPECT_TRUE(frame.advanced);
+  EXPECT_EQ(frame.image.samples_done, 1) << "a moved camera starts afresh";
+
+  frame = viewport.draw(moved, settings);
+  EXPECT_EQ(frame.image.samples_done, 2) << "the same view goes on";
+  settings.shadow_epsilon *= 1.5f;
+  EXPECT_EQ(viewport.draw(moved, settings).image.samples_done, 1) << "a changed setting starts afresh";
+
+  viewport.set_transforms({glm::translate(glm::mat4(1.0f), glm::vec3(0.1f, 0, 0)), glm::mat4(1.0f)});
+  EXPECT_EQ(viewport.draw(moved, settings).image.samples_done, 1) << "a moved object starts afresh";
+  EXPECT_EQ(viewport.draw(moved, settings).image.samples_done, 2);
+}
+
+TEST_F(ViewportTest, AKeptSceneIsUpdatedInPlaceOnlyForTheSameShapes) {
+  KeptScene kept(context());
+  Scene scene = sphere_on_ground();
+  EXPECT_FALSE(kept.update(scene)) << "the first update uploads";
+  const uint64_t id = kept.gpu().id();
+
+  scene.instances[0].object_to_world = glm::translate(glm::mat4(1.0f), glm::vec3(0.5f, 0, 0));
+  EXPECT_TRUE(kept.update(scene)) << "a moved instance: transforms only";
+  EXPECT_EQ(kept.gpu().id(), id);
+  EXPECT_EQ(kept.gpu().instances()[0].object_to_world[3][0], 0.5f);
+
+  scene.instances[1].casts_shadow = false;
+  EXPECT_FALSE(kept.update(scene)) << "another flag: uploaded afresh";
+  EXPECT_NE(kept.gpu().id(), id);
+
+  Scene deformed = scene;
+  deformed.meshes[0].positions[0] += glm::vec3(0.01f);
+  EXPECT_FALSE(kept.update(deformed)) << "other positions: uploaded afresh";
+}
+
+}  // namespace
+}  // namespace rtsdf
