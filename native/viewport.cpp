@@ -72,9 +72,9 @@ ViewportFrame Viewport::draw(const View& view, const RenderSettings& requested) 
   using Clock = std::chrono::steady_clock;
   ViewportFrame frame;
   const Clock::time_point start = Clock::now();
-  if (scene_changed_ || !drawn_ || view != drawn_view_ || !same_settings(settings, drawn_settings_)) {
+  if (scene_changed_ || restart_ || !drawn_ || view != drawn_view_ || !same_settings(settings, drawn_settings_)) {
     renderer_.begin(*scene_, view.camera, view.lights, view.ambient, view.width, view.height, settings, scene_changed_);
-    scene_changed_ = false;
+    scene_changed_ = restart_ = false;
     drawn_ = true;
     drawn_view_ = view;
     drawn_settings_ = settings;

@@ -53,6 +53,9 @@ class Viewport {
   void set_mesh_positions(uint32_t mesh, const std::vector<glm::vec3>& positions);
   // New geometry of one mesh, in its place.
   void set_mesh(uint32_t mesh, Mesh geometry);
+  // The next draw starts a new accumulation of the same view, as after a
+  // change (a benchmark's single frames).
+  void restart() { restart_ = true; }
 
   // One accumulation frame of `view`, at most. The viewport's policy
   // overrides `settings`: the fields keep their history from draw to draw
@@ -69,6 +72,7 @@ class Viewport {
   Renderer renderer_;
   std::unique_ptr<GpuScene> scene_;
   bool scene_changed_ = true;  // since the last begin
+  bool restart_ = false;
   bool drawn_ = false;
   View drawn_view_;
   RenderSettings drawn_settings_;

@@ -296,6 +296,8 @@ class Viewport {
     viewport_.set_mesh(mesh, std::move(geometry));
   }
 
+  void restart() { viewport_.restart(); }
+
   py::dict draw(const py::dict& view_desc, const py::dict& settings_desc) {
     rtsdf::View view;
     view.lights = lights_of(view_desc["lights"].cast<py::list>());
@@ -468,6 +470,8 @@ PYBIND11_MODULE(rtsdf_native, m) {
       .def("set_mesh_geometry", &Viewport::set_mesh_geometry, py::arg("mesh"), py::arg("geometry"),
            "New geometry of mesh `mesh` (a dict as sync's meshes: positions, indices, optional normals), in any "
            "number of vertices and triangles; the same geometry again changes nothing.")
+      .def("restart", &Viewport::restart,
+           "The next draw starts a new accumulation of the same view and settings, as after a change.")
       .def("fine_sdf", &Viewport::fine_sdf, py::arg("mesh") = 0,
            "The fine SDF as the last draw left it: {space, origin, voxel_size, distance (z, y, x) as float32}: "
            "mesh `mesh`'s own field in object space (rtsdf), else the whole scene's in world space; None before "

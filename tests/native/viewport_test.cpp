@@ -1,6 +1,6 @@
 // Where a change is decided: the settings compared over their one key list,
 // a viewport restarting its accumulation only when its view, settings or
-// scene changed, and a kept scene updated in place only when its shapes
+// scene changed (or when asked to), and a kept scene updated in place only when its shapes
 // are the same.
 #include <glm/gtc/matrix_transform.hpp>
 
@@ -86,6 +86,8 @@ TEST_F(ViewportTest, OnlyAChangedViewSettingOrSceneRestartsTheAccumulation) {
   viewport.set_transforms({glm::translate(glm::mat4(1.0f), glm::vec3(0.1f, 0, 0)), glm::mat4(1.0f)});
   EXPECT_EQ(viewport.draw(moved, settings).image.samples_done, 1) << "a moved object starts afresh";
   EXPECT_EQ(viewport.draw(moved, settings).image.samples_done, 2);
+  viewport.restart();
+  EXPECT_EQ(viewport.draw(moved, settings).image.samples_done, 1) << "restart() starts afresh";
 }
 
 TEST_F(ViewportTest, AKeptSceneIsUpdatedInPlaceOnlyForTheSameShapes) {
