@@ -101,7 +101,8 @@ class RTSDFSettings(bpy.types.PropertyGroup):
         name="SDF Updates", default=0, min=0, max=4096,
         description="Fine-SDF updates in a final render, one in each of the first accumulation frames "
                     "(0: every frame for the whole-scene methods, four passes over the band for RTSDF's fields; "
-                    "as bench/run measures). Fewer: a faster render; a still frame's field is close to converged "
+                    "as bench/run measures; a still mesh's field retraces only what still improves, and stops "
+                    "once nothing does). Fewer: a faster render; a still frame's field is close to converged "
                     "after a few")
 
     viewport_samples: IntProperty(
