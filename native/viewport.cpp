@@ -36,36 +36,36 @@ RenderSettings Viewport::default_settings() {
 }
 
 Viewport::Viewport(const vk::Context& context, std::shared_ptr<FieldCache> field_cache)
-    : context_(context), renderer_(context, std::move(field_cache)) {}
+    : renderer_(context, std::move(field_cache)), scene_(context) {}
 
-GpuScene& Viewport::scene_for_update() {
-  if (!scene_) throw Error("call sync before updating the viewport's scene");
-  return *scene_;
+bool Viewport::update(const Scene& scene) {
+  const bool changed = scene_.update(scene) != SceneUpdate::Unchanged;
+  scene_changed_ = scene_changed_ || changed;
+  return changed;
 }
 
 void Viewport::sync(const Scene& scene) {
-  scene_.reset();  // (frees the old one first)
-  scene_ = std::make_unique<GpuScene>(context_, scene);
+  scene_.upload(scene);
   scene_changed_ = true;
 }
 
 void Viewport::set_transforms(const std::vector<glm::mat4>& object_to_world) {
-  scene_for_update().set_transforms(object_to_world);
+  scene_.set_transforms(object_to_world);
   scene_changed_ = true;
 }
 
 void Viewport::set_mesh_positions(uint32_t mesh, const std::vector<glm::vec3>& positions) {
-  scene_for_update().set_mesh_positions(mesh, positions);
+  scene_.set_mesh_positions(mesh, positions);
   scene_changed_ = true;
 }
 
 void Viewport::set_mesh(uint32_t mesh, Mesh geometry) {
-  scene_for_update().set_mesh(mesh, std::move(geometry));
+  scene_.set_mesh(mesh, std::move(geometry));
   scene_changed_ = true;
 }
 
 ViewportFrame Viewport::draw(const View& view, const RenderSettings& requested) {
-  if (!scene_) throw Error("draw: call sync first");
+  if (!scene_.has_scene()) throw Error("draw: call sync first");
   RenderSettings settings = requested;
   settings.keep_history = true;
   settings.sdf_updates = 0;
@@ -73,7 +73,7 @@ ViewportFrame Viewport::draw(const View& view, const RenderSettings& requested) 
   ViewportFrame frame;
   const Clock::time_point start = Clock::now();
   if (scene_changed_ || restart_ || !drawn_ || view != drawn_view_ || !same_settings(settings, drawn_settings_)) {
-    renderer_.begin(*scene_, view.camera, view.lights, view.ambient, view.width, view.height, settings, scene_changed_);
+    renderer_.begin(scene_.gpu(), view.camera, view.lights, view.ambient, view.width, view.height, settings, scene_changed_);
     scene_changed_ = restart_ = false;
     drawn_ = true;
     drawn_view_ = view;

@@ -1,8 +1,9 @@
 #pragma once
 // A viewport: its own scene on the device and a renderer accumulating it
 // progressively, one frame per draw. Here is decided what a change means
-// for the image: the scene changes through sync, set_transforms and
-// set_mesh (the add-on diffs Blender's depsgraph into those calls); a draw
+// for the image: the scene changes through update (KeptScene tells what
+// changed, as for final renders) or the explicit sync, set_transforms and
+// set_mesh; a draw
 // whose view or settings differ from the last one's starts the
 // accumulation afresh (carrying history over where temporal reuse is on,
 // see Renderer::begin); an unchanged draw adds a frame until the image has
@@ -10,7 +11,7 @@
 #include <memory>
 #include <vector>
 
-#include "gpu_scene.h"
+#include "kept_scene.h"
 #include "renderer.h"
 
 namespace rtsdf {
@@ -45,7 +46,10 @@ class Viewport {
 
   Viewport(const vk::Context& context, std::shared_ptr<FieldCache> field_cache);
 
-  // The whole scene, after a change in what exists.
+  // The scene as it is now: only what changed is uploaded (KeptScene::update).
+  // Returns whether anything changed.
+  bool update(const Scene& scene);
+  // The whole scene uploaded afresh.
   void sync(const Scene& scene);
   // A transform for every instance, in sync's order.
   void set_transforms(const std::vector<glm::mat4>& object_to_world);
@@ -66,11 +70,8 @@ class Viewport {
   const Renderer& renderer() const { return renderer_; }
 
  private:
-  GpuScene& scene_for_update();
-
-  const vk::Context& context_;
   Renderer renderer_;
-  std::unique_ptr<GpuScene> scene_;
+  KeptScene scene_;
   bool scene_changed_ = true;  // since the last begin
   bool restart_ = false;
   bool drawn_ = false;

@@ -31,8 +31,7 @@ class RTSDFRenderEngine(bpy.types.RenderEngine):
     def __init__(self):
         self.viewport = None      # native Viewport of this engine instance (viewport instances only)
         self.mesh_cache = {}      # mesh key -> arrays last sent
-        self.signature = None     # what a transform-only update must leave unchanged
-        self.matrices = None
+        self.view_synced = False  # the viewport holds a scene
         self.lighting = None      # lights and world colour, read at the latest view_update
         self.texture = None
         self.texture_frame = -1
@@ -147,7 +146,7 @@ class RTSDFRenderEngine(bpy.types.RenderEngine):
             raise native.Unavailable(error)
         if self.viewport is None:
             self.viewport = session.viewport()
-        first = self.signature is None
+        first = not self.view_synced
         stale = None if first else {update.id.original.name for update in depsgraph.updates
                                     if isinstance(update.id, bpy.types.Object) and update.is_updated_geometry}
         notes = []
@@ -156,22 +155,10 @@ class RTSDFRenderEngine(bpy.types.RenderEngine):
         for note in set(notes) - self.view_warnings:
             print(f"RTSDF viewport: {note}")
         self.view_warnings.update(notes)
-        signature = ([m["key"] for m in meshes],
-                     [(i["mesh"], tuple((tuple(m["color"]), m.get("texture", -1), m.get("vertex_color", False)) for m in i["materials"]), i["casts_shadow"], i["visible_camera"], i["holdout"])
-                      for i in instances],
-                     [(t["name"], t["pixels"].shape) for t in textures])
-        matrices = [i["matrix"] for i in instances]
-        if first or signature != self.signature:
-            self.viewport.sync({"meshes": meshes, "instances": instances, "textures": textures})
-        else:
-            # In place, whatever changed: a deformed quad may split along its
-            # other diagonal, and smooth normals follow the deformation.
-            for index, mesh in enumerate(meshes):
-                if mesh["owner"] in stale:
-                    self.viewport.set_mesh_geometry(index, mesh)
-            if any(not np.array_equal(a, b) for a, b in zip(matrices, self.matrices)):
-                self.viewport.set_transforms(matrices)
-        self.signature, self.matrices = signature, matrices
+        # The native side tells what changed (new transforms, a deformed
+        # mesh in place, anything else afresh), as for final renders.
+        self.viewport.update({"meshes": meshes, "instances": instances, "textures": textures})
+        self.view_synced = True
 
     def view_draw(self, context, depsgraph):
         """One accumulation frame per call, at most: Blender's UI never waits

@@ -274,6 +274,12 @@ class Viewport {
     viewport_.sync(scene);
   }
 
+  bool update(const py::dict& scene_desc) {
+    rtsdf::Scene scene = scene_of(scene_desc);
+    py::gil_scoped_release release;
+    return viewport_.update(scene);
+  }
+
   void set_transforms(const py::list& matrices) {
     std::vector<glm::mat4> transforms;
     for (const py::handle& m : matrices) transforms.push_back(mat4_of(m));
@@ -378,8 +384,8 @@ class Session {
 
   std::string device() const { return context_->info().name; }
 
-  // persistent: keep the device scene (uploads, BVHs) when only transforms
-  // changed since the last render, and the fine SDF's history.
+  // persistent: keep the device scene (uploads, BVHs), and with it the
+  // fields and history, where its structure stays (KeptScene::update).
   py::dict render(const py::dict& scene_desc, const py::dict& settings_desc, const py::object& progress,
                   bool persistent) {
     rtsdf::Scene scene = scene_of(scene_desc);
@@ -412,7 +418,7 @@ class Session {
     {
       py::gil_scoped_release release;
       if (!persistent) kept_scene_.clear();
-      reused = kept_scene_.update(scene);
+      reused = kept_scene_.update(scene) != rtsdf::SceneUpdate::Uploaded;
       out = renderer_.render(kept_scene_.gpu(), camera, lights, ambient, width, height, settings, report);
       if (!persistent) kept_scene_.clear();
     }
@@ -463,6 +469,10 @@ PYBIND11_MODULE(rtsdf_native, m) {
       .def("sync", &Viewport::sync, py::arg("scene"),
            "Uploads the scene's meshes and instances (as Session.render takes them); later changes come through "
            "set_transforms and set_mesh.")
+      .def("update", &Viewport::update, py::arg("scene"),
+           "The scene as it is now (as sync takes it): only what changed is uploaded, in place where the meshes, "
+           "instances, materials and images keep their structure (new transforms, a deformed mesh's geometry), "
+           "else afresh. Returns whether anything changed.")
       .def("set_transforms", &Viewport::set_transforms, py::arg("matrices"),
            "A 4x4 matrix for every instance, in sync's order (only the top-level BVH is rebuilt).")
       .def("set_mesh", &Viewport::set_mesh, py::arg("mesh"), py::arg("positions"),
@@ -500,8 +510,8 @@ PYBIND11_MODULE(rtsdf_native, m) {
            "Returns combined (H,W,4), depth, shadow (rows top to bottom) "
            "and ms. progress(done, total, preview) is called after each accumulation frame (preview() reads the "
            "Combined image so far); returning False stops. "
-           "persistent=True keeps the scene on the device and the fine SDF between renders when only transforms "
-           "change (Blender's persistent data); the result's scene_reused tells whether it did.");
+           "persistent=True keeps the scene on the device and the fine SDF between renders where only transforms "
+           "or meshes' geometry change (Blender's persistent data); the result's scene_reused tells whether it did.");
   m.def(
       "write_exr",
       [](const std::string& path, const py::dict& result) {

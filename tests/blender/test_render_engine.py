@@ -506,7 +506,7 @@ class RenderEngine(unittest.TestCase):
         self.assertGreater(still.mean(), 0.5)
         self.assertLess(rmse(reused, still), 0.85 * rmse(few, still))
 
-    def test_persistent_data_keeps_the_scene_when_only_transforms_change(self):
+    def test_persistent_data_keeps_the_scene_where_its_structure_stays(self):
         import rtsdf
         session, error = rtsdf.native.session()
         self.assertIsNone(error)
@@ -524,7 +524,9 @@ class RenderEngine(unittest.TestCase):
         smooth = next(m for m in data["meshes"] if "normals" in m)
         smooth["normals"] = smooth["normals"] * np.float32(1.0 + 1e-6)
         self.assertTrue(session.render(data, settings, None, True)["scene_reused"])
-        data["meshes"][0]["positions"] = data["meshes"][0]["positions"] * 1.1  # a deformation
+        data["meshes"][0]["positions"] = data["meshes"][0]["positions"] * 1.1  # a deformation: that mesh in place
+        self.assertTrue(session.render(data, settings, None, True)["scene_reused"])
+        data["instances"][0]["casts_shadow"] = not data["instances"][0].get("casts_shadow", True)  # another structure
         self.assertFalse(session.render(data, settings, None, True)["scene_reused"])
         self.assertFalse(session.render(data, settings, None, False)["scene_reused"])
 

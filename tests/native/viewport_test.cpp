@@ -90,24 +90,29 @@ TEST_F(ViewportTest, OnlyAChangedViewSettingOrSceneRestartsTheAccumulation) {
   EXPECT_EQ(viewport.draw(moved, settings).image.samples_done, 1) << "restart() starts afresh";
 }
 
-TEST_F(ViewportTest, AKeptSceneIsUpdatedInPlaceOnlyForTheSameShapes) {
+TEST_F(ViewportTest, AKeptSceneUpdatesInPlaceWhereItsStructureStays) {
   KeptScene kept(context());
   Scene scene = sphere_on_ground();
-  EXPECT_FALSE(kept.update(scene)) << "the first update uploads";
+  EXPECT_EQ(kept.update(scene), SceneUpdate::Uploaded) << "the first update uploads";
   const uint64_t id = kept.gpu().id();
+  EXPECT_EQ(kept.update(scene), SceneUpdate::Unchanged);
 
   scene.instances[0].object_to_world = glm::translate(glm::mat4(1.0f), glm::vec3(0.5f, 0, 0));
-  EXPECT_TRUE(kept.update(scene)) << "a moved instance: transforms only";
+  EXPECT_EQ(kept.update(scene), SceneUpdate::InPlace) << "a moved instance: transforms only";
   EXPECT_EQ(kept.gpu().id(), id);
   EXPECT_EQ(kept.gpu().instances()[0].object_to_world[3][0], 0.5f);
 
-  scene.instances[1].casts_shadow = false;
-  EXPECT_FALSE(kept.update(scene)) << "another flag: uploaded afresh";
-  EXPECT_NE(kept.gpu().id(), id);
+  const uint64_t sphere_version = kept.gpu().mesh_version(0), ground_version = kept.gpu().mesh_version(1);
+  for (glm::vec3& p : scene.meshes[0].positions) p *= 1.1f;
+  EXPECT_EQ(kept.update(scene), SceneUpdate::InPlace) << "a deformed mesh, in place";
+  EXPECT_EQ(kept.gpu().id(), id);
+  EXPECT_NE(kept.gpu().mesh_version(0), sphere_version) << "the deformed mesh is reshaped";
+  EXPECT_EQ(kept.gpu().mesh_version(1), ground_version) << "the other is not";
+  EXPECT_EQ(kept.update(scene), SceneUpdate::Unchanged) << "the same again";
 
-  Scene deformed = scene;
-  deformed.meshes[0].positions[0] += glm::vec3(0.01f);
-  EXPECT_FALSE(kept.update(deformed)) << "other positions: uploaded afresh";
+  scene.instances[1].casts_shadow = false;
+  EXPECT_EQ(kept.update(scene), SceneUpdate::Uploaded) << "another flag: uploaded afresh";
+  EXPECT_NE(kept.gpu().id(), id);
 }
 
 }  // namespace
