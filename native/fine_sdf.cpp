@@ -100,16 +100,10 @@ std::vector<float> FineSdf::read_distance() const {
   return values;
 }
 
-uint32_t FineSdf::read_traced_texels() const {
-  uint32_t counts[2] = {};
+uint32_t FineSdf::read_count(int which) const {
+  uint32_t counts[2] = {};  // texels traced, improved
   std::memcpy(counts, traced_.mapped(), sizeof counts);
-  return counts[0];
-}
-
-uint32_t FineSdf::read_improved_texels() const {
-  uint32_t counts[2] = {};
-  std::memcpy(counts, traced_.mapped(), sizeof counts);
-  return counts[1];
+  return counts[which];
 }
 
 }  // namespace rtsdf

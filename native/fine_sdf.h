@@ -43,16 +43,18 @@ class FineSdf {
 
   // Read-backs for tools and tests (x fastest).
   std::vector<float> read_distance() const;
-  uint32_t read_traced_texels() const;  // texels traced in the last update (0 before any)
-  // Of those, texels whose rays found a surface a quarter voxel closer than
-  // any earlier update had (0 on a first update): how far from converged.
-  uint32_t read_improved_texels() const;
+  uint32_t read_traced_texels() const { return read_count(0); }  // texels traced in the last update (0 before any)
+  // Of those, in a still field (FineTraceSettings::skip_converged), texels
+  // whose rays found a surface a quarter voxel closer than their value (0
+  // on a first update, and in other fields): how far from converged.
+  uint32_t read_improved_texels() const { return read_count(1); }
   // Device memory of the grid's images and lists.
   size_t bytes() const { return grid_.voxel_count() * kBytesPerTexel; }
   static constexpr size_t kBytesPerTexel = 4 + 16 + 4;  // distance, hit counts, trace list
 
  private:
   void allocate(const GridSpec& grid);
+  uint32_t read_count(int which) const;  // the last update's: 0 traced, 1 improved
 
   const vk::Context& context_;
   std::shared_ptr<const FineTracePass> pass_;

@@ -22,7 +22,8 @@
 // slab widens the piece's shadow by as much.
 // Texels whose rays found a surface closer (by a quarter voxel) than their
 // value are still improving (history.x, which the classify step of a still
-// field reads) and are counted: once none is, the field has converged.
+// field reads) and, in a still field, are counted: once none is, the field
+// has converged.
 #include "shared.h"
 #include "seed_common.glsl.h"  // texel indices are packed like seeds
 
@@ -77,6 +78,7 @@ void main() {
   }
 
   bool first_frame = pc.coarse_dims.w != 0;
+  bool still = pc.coarse_beta.z != 0.0;  // (only a still field's convergence is counted)
   float alpha = pc.params.x;
   float target = max(c + pc.params.z, 0.0);  // params.z = 0: the paper's c_t
   vec4 previous = first_frame ? vec4(0.0, 0.0, target, pc.params.w) : imageLoad(history, p);
@@ -84,7 +86,7 @@ void main() {
   bool inside = unanimous ? hits.y > 0.0 : inside_scene(world);
   // (a quarter voxel closer to a surface, or to a thin piece's slab)
   bool improving = first_frame || min(nearest - previous.z, nearest_slab - previous.w) < -0.25 * pc.fine_grid.w;
-  if (improving && !first_frame) atomicAdd(improved, 1u);
+  if (improving && !first_frame && still) atomicAdd(improved, 1u);
   float f = min(alpha * previous.z + (1.0 - alpha) * target, nearest);
   float g = min(alpha * previous.w + (1.0 - alpha) * pc.params.w, nearest_slab);
   imageStore(history, p, vec4(improving ? 1.0 : 0.0, 0.0, f, g));

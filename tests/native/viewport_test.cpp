@@ -2,7 +2,10 @@
 // a viewport restarting its accumulation only when its view, settings or
 // scene changed (or when asked to), and a kept scene updated in place only when its shapes
 // are the same.
+#include <cmath>
 #include <glm/gtc/matrix_transform.hpp>
+
+#include "error.h"
 
 #include "kept_scene.h"
 #include "reference/shapes.h"
@@ -88,6 +91,36 @@ TEST_F(ViewportTest, OnlyAChangedViewSettingOrSceneRestartsTheAccumulation) {
   EXPECT_EQ(viewport.draw(moved, settings).image.samples_done, 2);
   viewport.restart();
   EXPECT_EQ(viewport.draw(moved, settings).image.samples_done, 1) << "restart() starts afresh";
+}
+
+// A bad update (NaN positions, a NaN transform) is refused with
+// rtsdf::Error and leaves the viewport drawing the scene it held; a mesh
+// emptied by its modifiers is no error: it casts and shows nothing.
+TEST_F(ViewportTest, ABadUpdateIsRefusedAndTheViewportDrawsOn) {
+  Viewport viewport(context(), nullptr);
+  const Scene good = sphere_on_ground();
+  viewport.update(good);
+  RenderSettings settings = Viewport::default_settings();
+  settings.samples = 1;
+  settings.coarse_resolution = 16;
+  settings.fine_resolution = 32;
+  viewport.draw(top_view(), settings);
+
+  Scene nan_positions = good;
+  nan_positions.meshes[0].positions[3].x = std::nanf("");
+  EXPECT_THROW(viewport.update(nan_positions), Error);
+  Scene nan_transform = good;
+  nan_transform.instances[0].object_to_world[3][0] = std::nanf("");
+  EXPECT_THROW(viewport.update(nan_transform), Error);
+
+  EXPECT_FALSE(viewport.update(good)) << "the scene held is the good one";
+  for (float v : viewport.draw(top_view(), settings).image.combined) ASSERT_TRUE(std::isfinite(v));
+
+  Scene empty_mesh = good;
+  empty_mesh.meshes[0].positions.clear();
+  empty_mesh.meshes[0].indices.clear();
+  EXPECT_TRUE(viewport.update(empty_mesh));
+  for (float v : viewport.draw(top_view(), settings).image.combined) ASSERT_TRUE(std::isfinite(v));
 }
 
 TEST_F(ViewportTest, AKeptSceneUpdatesInPlaceWhereItsStructureStays) {
