@@ -104,6 +104,7 @@ void main() {
   imageStore(resolved_color, pixel, current);  // (where history cannot help: this sample alone)
   imageStore(resolved_passes, pixel, passes);
   bool background = position.w <= 0.0;
+  vec3 on_ray = position.xyz;  // a point on this pixel's camera ray (the background's: on the far plane)
   if (background) {
     // The world behind everything moves with the camera alone: where this
     // pixel's ray met the far plane, seen from the last camera.
@@ -111,6 +112,7 @@ void main() {
     vec4 far_point = inverse(frame.steady_world_to_clip) * vec4(ndc, 1.0, 1.0);
     vec4 before = frame.previous_world_to_clip * vec4(far_point.xyz / far_point.w, 1.0);
     if (abs(far_point.w) < 1e-20 || before.w <= 0.0) return;
+    on_ray = far_point.xyz / far_point.w;
     motion = vec4(before.xy / before.w - ndc, kNothingHitDepth, 1.0);
   }
   if (motion.w <= 0.0) return;  // (behind the last camera)
@@ -148,12 +150,14 @@ void main() {
   // A silhouette's history holds the surfaces in front as well (its nearest
   // depth). Where that front surface was what moved, this pixel's history
   // mixes in an object that has left it: it is uncertain, and never settled.
+  // (The same for the background: where an object moved off it, history
+  // near its old outline still holds it.)
   bool front_moved = false;
-  if (!background && history_nearest < kNothingHitDepth) {
+  if (history_nearest < kNothingHitDepth) {
     vec3 camera = frame.camera_position.xyz, forward = frame.camera_forward.xyz;
-    vec3 ray = frame.camera_position.w > 0.5 ? forward : normalize(position.xyz - camera);
-    float depth = dot(position.xyz - camera, forward);
-    vec3 history_front = position.xyz + ray * ((history_nearest - depth) / max(dot(ray, forward), 1e-3));
+    vec3 ray = frame.camera_position.w > 0.5 ? forward : normalize(on_ray - camera);
+    float depth = background ? kNothingHitDepth : dot(on_ray - camera, forward);
+    vec3 history_front = on_ray + ray * ((history_nearest - dot(on_ray - camera, forward)) / max(dot(ray, forward), 1e-3));
     front_moved = history_nearest < depth * (1.0 - pc.depth_tolerance) && near_change(history_front);
   }
 

@@ -141,27 +141,27 @@ TEST_F(TemporalTest, MovingCasterLeavesNoShadowTrailAfterTwoFrames) {
   EXPECT_LT(worst, 0.25) << "no pixel keeps much of the old shadow";
 }
 
-// A silhouette pixel's history holds both surfaces its samples saw (the
-// object's edge and the ground far behind it). When the object moves away,
-// the ground that now shows matches the far end of that history's depths,
-// but the history still mixes in the object: it must not be kept as the
-// settled value of a still pixel (the ground far behind is nowhere near
-// what moved), or the old silhouette stays on screen for good.
-TEST_F(TemporalTest, AMovedObjectLeavesNoSilhouetteBehind) {
+// The pixels on a dark cube's silhouette against what lies behind it
+// (`behind`: a depth), rendered still, then played back as the cube moves
+// out of the view and four frames change nothing: the largest difference
+// (red) from a fresh render without the cube, and how many such pixels.
+struct OldSilhouette {
+  int count = 0;
+  double worst = 0.0;
+};
+template <class Behind>
+OldSilhouette old_silhouette(const Camera& camera, glm::vec3 sky, Behind behind) {
   Scene scene_before = cube_over_ground();
   scene_before.instances[0].base_color = glm::vec3(0.02f);  // a dark cube over a light ground: a ghost shows
-  Camera camera;  // low, looking along +y past the cube at ground 4 to 20 units behind it
-  camera.world_to_view = glm::lookAt(glm::vec3(-0.5f, -3.0f, 1.0f), glm::vec3(-0.5f, 10.0f, 0.0f), glm::vec3(0, 0, 1));
-  camera.projection = glm::perspectiveRH_NO(0.6f, 1.0f, 0.1f, 40.0f);
   Light sun = tilted_sun();
   sun.direction = glm::normalize(glm::vec3(0.0f, -1.0f, -1.0f));  // from beyond the far ground
-  const glm::vec3 sky(0.0f);
   const float moved_x = 3.0f;  // out of the view
   RenderSettings settings = playback_settings();
   settings.samples = 8;
+  const vk::Context& context = testing::VulkanTest::context();
 
-  GpuScene scene(context(), scene_before);
-  Renderer renderer(context());
+  GpuScene scene(context, scene_before);
+  Renderer renderer(context);
   renderer.begin(scene, camera, {sun}, sky, kSize, kSize, settings, true);
   for (int frame = 0; frame < settings.samples; ++frame) renderer.add_frame();
   const RenderOutput before = renderer.read();
@@ -173,33 +173,57 @@ TEST_F(TemporalTest, AMovedObjectLeavesNoSilhouetteBehind) {
   }
   const RenderOutput played = renderer.read();
 
-  GpuScene fresh_scene(context(), scene_before);
+  GpuScene fresh_scene(context, scene_before);
   move_cube(fresh_scene, moved_x);
-  Renderer fresh(context());
+  Renderer fresh(context);
   RenderSettings still = settings;
   still.temporal_reuse = false;
   still.samples = 32;
   const RenderOutput expected = fresh.render(fresh_scene, camera, {sun}, sky, kSize, kSize, still);
-  // The pixels on the cube's silhouette against the far ground: they saw both.
-  double worst = 0.0;
-  int count = 0;
+  OldSilhouette result;
   for (int y = 1; y + 1 < kSize; ++y)
     for (int x = 1; x + 1 < kSize; ++x) {
       const size_t i = size_t(y) * kSize + size_t(x);
-      bool cube = false, far_ground = false;
+      bool cube = false, behind_it = false;
       for (int dy = -1; dy <= 1; ++dy)
         for (int dx = -1; dx <= 1; ++dx) {
           const float depth = before.depth[size_t(y + dy) * kSize + size_t(x + dx)];
           cube = cube || depth < 4.0f;
-          far_ground = far_ground || (depth > 6.0f && depth < 1e9f);
+          behind_it = behind_it || behind(depth);
         }
-      if (!(cube && far_ground) || expected.depth[i] > 1e9f) continue;
-      ++count;
-      worst = std::max(worst, double(std::abs(played.combined[4 * i] - expected.combined[4 * i])));
+      if (!(cube && behind_it) || !behind(expected.depth[i])) continue;
+      ++result.count;
+      result.worst = std::max(result.worst, double(std::abs(played.combined[4 * i] - expected.combined[4 * i])));
     }
-  std::printf("old silhouette pixels: %d, largest |played - fresh| (red) %.3f\n", count, worst);
-  ASSERT_GT(count, 10);
-  EXPECT_LT(worst, 0.1) << "the moved cube's old silhouette is gone after four frames";
+  return result;
+}
+
+// A silhouette pixel's history holds both surfaces its samples saw (the
+// object's edge and the ground far behind it). When the object moves away,
+// the ground that now shows matches the far end of that history's depths,
+// but the history still mixes in the object: it must not be kept as the
+// settled value of a still pixel (the ground far behind is nowhere near
+// what moved), or the old silhouette stays on screen for good.
+TEST_F(TemporalTest, AMovedObjectLeavesNoSilhouetteBehind) {
+  Camera camera;  // low, looking along +y past the cube at ground 4 to 20 units behind it
+  camera.world_to_view = glm::lookAt(glm::vec3(-0.5f, -3.0f, 1.0f), glm::vec3(-0.5f, 10.0f, 0.0f), glm::vec3(0, 0, 1));
+  camera.projection = glm::perspectiveRH_NO(0.6f, 1.0f, 0.1f, 40.0f);
+  const OldSilhouette ground = old_silhouette(camera, glm::vec3(0.0f), [](float d) { return d > 6.0f && d < 1e9f; });
+  std::printf("old silhouette pixels: %d, largest |played - fresh| (red) %.3f\n", ground.count, ground.worst);
+  ASSERT_GT(ground.count, 10);
+  EXPECT_LT(ground.worst, 0.1) << "the moved cube's old silhouette is gone after four frames";
+}
+
+// The same against the sky: a background pixel's history near the old
+// outline holds the cube too, and is not kept either.
+TEST_F(TemporalTest, AMovedObjectLeavesNoSilhouetteOnTheSky) {
+  Camera camera;  // level with the cube's top, looking a little up: the cube against the sky
+  camera.world_to_view = glm::lookAt(glm::vec3(-0.5f, -3.0f, 0.9f), glm::vec3(-0.5f, 10.0f, 2.5f), glm::vec3(0, 0, 1));
+  camera.projection = glm::perspectiveRH_NO(0.6f, 1.0f, 0.1f, 40.0f);
+  const OldSilhouette sky = old_silhouette(camera, glm::vec3(0.6f), [](float d) { return d > 1e9f; });
+  std::printf("old silhouette pixels on the sky: %d, largest |played - fresh| (red) %.3f\n", sky.count, sky.worst);
+  ASSERT_GT(sky.count, 10);
+  EXPECT_LT(sky.worst, 0.1) << "the moved cube's old outline is gone from the sky after four frames";
 }
 
 // Playback of a still scene, one frame per frame change: the samples carried
