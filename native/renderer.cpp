@@ -205,7 +205,7 @@ Renderer::Renderer(const vk::Context& context, std::shared_ptr<FieldCache> field
       temporal_(context),
       object_fields_(context, std::move(field_cache)),
       world_field_(context),
-      shading_timer_(context, 4),
+      shading_timer_(context, 5),
       march_(context) {}
 
 void Renderer::validate(int width, int height, const RenderSettings& settings) const {
@@ -551,6 +551,7 @@ void Renderer::add_frame() {
     const bool share_lights = settings_.quick_first_frame && frame_ == 0;
     shade_.record(cmd, {gbuffer_, march_, shadow_maps, rays, light_buffer_, frame_buffer_}, {accum_color_, accum_passes_},
                   march_sky, share_lights, push_, &shading_timer_);
+    shading_timer_.mark(cmd, "shade");
     if (has_history_ && frame_ == 0) {
       vk::memory_barrier(cmd, VK_ACCESS_SHADER_WRITE_BIT, VK_ACCESS_SHADER_READ_BIT,
                          VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT);
@@ -568,8 +569,8 @@ void Renderer::add_frame() {
       temporal_.record(cmd, gbuffer_,
                        {accum_color_, accum_passes_, history_color_, history_passes_, resolved_color_, resolved_passes_},
                        frame_buffer_, light_buffer_, temporal);
+      shading_timer_.mark(cmd, "temporal");
     }
-    shading_timer_.mark(cmd, "shade");
   });
   if (has_history_ && frame_ == 0) {
     std::swap(accum_color_, resolved_color_);
@@ -580,6 +581,7 @@ void Renderer::add_frame() {
   for (const vk::GpuTimer::Span& span : shading_timer_.read()) {
     (span.label == "gbuffer" ? timings_.gbuffer_gpu_ms : timings_.shade_gpu_ms) += span.ms;
     if (span.label == "quad") timings_.quad_gpu_ms += span.ms;
+    if (span.label == "temporal") timings_.temporal_gpu_ms += span.ms;
   }
   timings_.total_ms += ms_since(start);
   frame_++;

@@ -187,9 +187,10 @@ struct RenderTimings {
   double shadow_map_ms = 0;
   // Device time of shade_ms's passes (0 where the device has no timestamps):
   // the G-buffer, the quarter-rate visibility pass (quad_gpu_ms: the world
-  // light, and the lights in a quick first frame) and the shading
-  // (shade_gpu_ms, which includes quad_gpu_ms).
-  double gbuffer_gpu_ms = 0, quad_gpu_ms = 0, shade_gpu_ms = 0;
+  // light, and the lights in a quick first frame), the temporal reuse after a
+  // change (temporal_gpu_ms) and the shading (shade_gpu_ms, which includes
+  // quad_gpu_ms and temporal_gpu_ms).
+  double gbuffer_gpu_ms = 0, quad_gpu_ms = 0, temporal_gpu_ms = 0, shade_gpu_ms = 0;
 };
 
 struct RenderOutput {

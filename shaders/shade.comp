@@ -23,6 +23,10 @@ layout(local_size_x = 8, local_size_y = 8) in;
 layout(binding = 6, rgba32f) uniform image2D accum_color;   // rgb = Combined, a = coverage
 // x = Depth (the nearest seen), y = Shadow (visibility), z = samples in the mean, w = the farthest depth seen
 layout(binding = 7, rgba32f) uniform image2D accum_passes;
+// The field view drawn in place of the image (kDebug*; as pc.field_view): a
+// constant, as the method is, since lavapipe pays for the views' code in
+// every pixel even where a branch skips it (it made the shading 2.5x slower).
+layout(constant_id = 2) const uint kFieldView = kDebugNone;
 #include "shadow_map_lookup.glsl.h"  // csm_evsm, csm_jitter
 #include "field_views.glsl.h"        // what the fields look like, in place of the image
 #include "quad_share.glsl.h"         // the quad pass's samples shared with the pixels on their surface
@@ -98,11 +102,10 @@ void main() {
     }
     shadow = unshadowed > 0.0 ? lit / unshadowed : 1.0;
   }
-  uint view = uint(pc.field_view);
-  if (view == kDebugDistanceSlice) color = distance_slice_color(pixel, color);
-  if (view == kDebugMarchSteps) color = march_steps_color(pixel);
-  if (view == kDebugFieldResolution) color = field_resolution_color(position, imageLoad(g_albedo, pixel).a, color);
-  if (view == kDebugExactRays && traced_exactly) color = mix(color, vec3(1.0, 0.0, 1.0), 0.6);
+  if (kFieldView == kDebugDistanceSlice) color = distance_slice_color(pixel, color);
+  if (kFieldView == kDebugMarchSteps) color = march_steps_color(pixel);
+  if (kFieldView == kDebugFieldResolution) color = field_resolution_color(position, imageLoad(g_albedo, pixel).a, color);
+  if (kFieldView == kDebugExactRays && traced_exactly) color = mix(color, vec3(1.0, 0.0, 1.0), 0.6);
   // A running mean over the samples in each pixel: the accumulation frames
   // since begin(), and the reprojected history's (temporal_resolve.comp).
   vec4 previous_color = pc.accumulation_frame == 0 ? vec4(0.0) : imageLoad(accum_color, pixel);

@@ -34,23 +34,14 @@ ShadePass::ShadePass(const vk::Context& context)
   no_rays_ = vk::upload_buffer(context, &empty, sizeof empty, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
 }
 
-ShadePass::Passes& ShadePass::passes_for(uint32_t mode, bool share_lights) {
-  if (mode >= passes_.size()) throw Error("ShadePass: unknown visibility method");
-  Passes& passes = passes_[mode];
-  auto make = [&](vk::Spirv spirv, uint32_t stage) {
-    return std::make_unique<vk::Pipeline>(context_, spirv, kBindings, uint32_t(sizeof(gpu::ShadePush)),
-                                          std::vector<uint32_t>{mode, stage});
-  };
-  if (!passes.shade) {
-    passes.quad = make(RTSDF_SPIRV(spirv_quad_visibility_comp), gpu::kShadeFull);
-    passes.shade = make(RTSDF_SPIRV(spirv_shade_comp), gpu::kShadeFull);
-  }
-  if (share_lights && !passes.shade_shared) {
-    passes.quad_with_lights = make(RTSDF_SPIRV(spirv_quad_visibility_comp), gpu::kShadeShared);
-    passes.shade_shared = make(RTSDF_SPIRV(spirv_shade_comp), gpu::kShadeShared);
-    passes.shade_fill = make(RTSDF_SPIRV(spirv_shade_comp), gpu::kShadeFill);
-  }
-  return passes;
+const vk::Pipeline& ShadePass::pipeline(Shader shader, uint32_t mode, uint32_t stage, uint32_t field_view) {
+  if (mode > gpu::kVisibilityHybrid) throw Error("ShadePass: unknown visibility method");
+  std::unique_ptr<vk::Pipeline>& made = pipelines_[{uint32_t(shader), mode, stage, field_view}];
+  if (!made)
+    made = std::make_unique<vk::Pipeline>(
+        context_, shader == Shader::Quad ? RTSDF_SPIRV(spirv_quad_visibility_comp) : RTSDF_SPIRV(spirv_shade_comp),
+        kBindings, uint32_t(sizeof(gpu::ShadePush)), std::vector<uint32_t>{mode, stage, field_view});
+  return *made;
 }
 
 void ShadePass::resize(glm::ivec2 size, int lights) {
@@ -80,7 +71,6 @@ void ShadePass::record(VkCommandBuffer cmd, const ShadeInputs& in, const ShadeTa
   const uint32_t mode = push.visibility_mode;
   share_lights = share_lights && mode != gpu::kVisibilityShadowMaps && push.light_count > 0 &&
                  push.light_count <= kMaxSharedLights;
-  Passes& passes = passes_for(mode, share_lights);
   const glm::ivec2 size = push.image_size;
   const glm::ivec2 quads = (size + 1) / 2;
   const VkDeviceSize shared_bytes = sizeof(float) * VkDeviceSize(quads.x) * VkDeviceSize(quads.y) * push.light_count;
@@ -109,7 +99,7 @@ void ShadePass::record(VkCommandBuffer cmd, const ShadeInputs& in, const ShadeTa
                        VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT, dst_stage);
   };
   if (march_sky || share_lights) {
-    run(share_lights ? *passes.quad_with_lights : *passes.quad);
+    run(pipeline(Shader::Quad, mode, share_lights ? gpu::kShadeShared : gpu::kShadeFull, gpu::kDebugNone));
     vkCmdDispatch(cmd, vk::group_count(quads.x, 8), vk::group_count(quads.y, 8), 1);
     if (share_lights) {
       const uint32_t empty_list[4] = {0u, 1u, 1u, 0u};  // no groups yet (x), 1 (y, z), no pixels
@@ -118,13 +108,13 @@ void ShadePass::record(VkCommandBuffer cmd, const ShadeInputs& in, const ShadeTa
     barrier(VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT);
     if (timer) timer->mark(cmd, "quad");
   }
-  run(share_lights ? *passes.shade_shared : *passes.shade);
+  run(pipeline(Shader::Shade, mode, share_lights ? gpu::kShadeShared : gpu::kShadeFull, push.field_view));
   vkCmdDispatch(cmd, vk::group_count(size.x, 8), vk::group_count(size.y, 8), 1);
   if (share_lights) {
     // (shade.comp counts the listed pixels' groups of 64, its 8 x 8, in the list's first word)
     barrier(VK_ACCESS_INDIRECT_COMMAND_READ_BIT | VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT,
             VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT | VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT);
-    run(*passes.shade_fill);
+    run(pipeline(Shader::Shade, mode, gpu::kShadeFill, push.field_view));
     vkCmdDispatchIndirect(cmd, fill_list_.handle(), 0);
   }
 }

@@ -6,6 +6,7 @@
 // quarter of the pixels first (shaders/quad_visibility.comp): the world
 // light's always, the lights' in a shared-visibility frame.
 #include <array>
+#include <map>
 #include <memory>
 
 #include "gpu_scene.h"
@@ -57,22 +58,19 @@ class ShadePass {
   // every pixel.
   // Lights are shared up to kMaxSharedLights (the quad pass keeps a value
   // per light and quad); with more, every pixel marches them.
-  // The pipelines are made for push.visibility_mode's method on their first use.
   // `timer` (optional) gets a "quad" mark after the quad pass.
   void record(VkCommandBuffer cmd, const ShadeInputs& in, const ShadeTargets& out, bool march_sky, bool share_lights,
               const gpu::ShadePush& push, vk::GpuTimer* timer = nullptr);
 
  private:
-  // Per visibility method (kVisibility*): its passes, specialized so that
-  // each holds only that method's and that part's code (kShade*).
-  struct Passes {
-    std::unique_ptr<vk::Pipeline> quad, quad_with_lights, shade, shade_shared, shade_fill;
-  };
-  // (those of a shared-visibility frame only once one is asked for)
-  Passes& passes_for(uint32_t mode, bool share_lights);
+  // The passes, specialized so that each holds only its visibility method's
+  // (kVisibility*), its part's (kShade*) and its field view's (kDebug*)
+  // code; each made on its first use.
+  enum class Shader { Quad, Shade };
+  const vk::Pipeline& pipeline(Shader shader, uint32_t mode, uint32_t stage, uint32_t field_view);
 
   const vk::Context& context_;
-  std::array<Passes, 5> passes_;
+  std::map<std::array<uint32_t, 4>, std::unique_ptr<vk::Pipeline>> pipelines_;
   vk::Image no_shadow_atlas_;   // 1 texel
   vk::Buffer no_shadow_tiles_;  // one tile, and one light's empty range (also stands in for the BVHs)
   vk::Buffer no_rays_;          // a BVH node with no instance: nothing to hit
