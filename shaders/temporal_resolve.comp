@@ -21,7 +21,8 @@
 // - Settled pixels: under unchanged lights and world, full history that stays
 //   where it was, away from what moved, keeps its converged value; the new
 //   sample is not blended in, so still parts of the image do not shimmer
-//   during playback.
+//   during playback. Such a pixel near what moved (only its sky can change)
+//   takes the new sample unclipped.
 // The accumulation's running mean then goes on from history's samples
 // (accum_passes.z), up to history_samples of them.
 #include "shared.h"
@@ -64,13 +65,17 @@ bool light_path_crosses_change(vec3 p, int l) {
   return enter <= leave;
 }
 
-// Whether p is within the changed box's own size of it (the sky it sees may
-// be what moved).
-bool near_change(vec3 p) {
+// Where a still pixel near what moved is clipped as a moving one's: within
+// this share of the changed box's size (its contact shadow, see main).
+const float kContactReach = 0.25;
+
+// Whether p is within `reach` times the changed box's own size of it (at 1:
+// the sky it sees may be what moved).
+bool near_change(vec3 p, float reach) {
   if (frame.changed_lo.w == 0.0) return false;
   vec3 lo = frame.changed_lo.xyz, hi = frame.changed_hi.xyz;
   vec3 outside = max(max(lo - p, p - hi), 0.0);
-  return length(outside) <= length(hi - lo);
+  return length(outside) <= reach * length(hi - lo);
 }
 
 // Whether history's texel q saw depth `depth`: within the range of depths
@@ -158,7 +163,7 @@ void main() {
     vec3 ray = frame.camera_position.w > 0.5 ? forward : normalize(on_ray - camera);
     float depth = background ? kNothingHitDepth : dot(on_ray - camera, forward);
     vec3 history_front = on_ray + ray * ((history_nearest - dot(on_ray - camera, forward)) / max(dot(ray, forward), 1e-3));
-    front_moved = history_nearest < depth * (1.0 - pc.depth_tolerance) && near_change(history_front);
+    front_moved = history_nearest < depth * (1.0 - pc.depth_tolerance) && near_change(history_front, 1.0);
   }
 
   // The neighbourhood's mean and spread in YCoCg (this frame's samples, same coverage).
@@ -198,10 +203,17 @@ void main() {
   // new sample may see a surface its history never did (the jitter goes on
   // to offsets the still frames did not take); away from what moved, that is
   // the jitter, not motion, so its full history counts here.
-  bool settled = pc.same_lighting == 1u && min(full_samples, float(pc.history_samples)) >= float(pc.history_samples) && !shadow_moved &&
-                 !front_moved &&
-                 !(!background && near_change(position.xyz)) && all(lessThan(abs(at - vec2(pixel)), vec2(1e-3)));
+  bool still = pc.same_lighting == 1u && min(full_samples, float(pc.history_samples)) >= float(pc.history_samples) &&
+               !shadow_moved && !front_moved && all(lessThan(abs(at - vec2(pixel)), vec2(1e-3)));
+  bool settled = still && (background || !near_change(position.xyz, 1.0));
   if (settled) w = 0.0, clipped = history.rgb, shadow_history = history_shadow;
+  // Still, but near what moved: only the sky it sees can change, and by a
+  // share of it that grows slowly with the motion; the clip to this frame's
+  // one-sample neighbourhood would only add that sample's noise (most of
+  // playback's flicker), so history goes on unclipped and the sky follows
+  // through the new samples' weight. At contact (within a quarter of the
+  // box's size) the sky changes fast: clipped as any other pixel.
+  else if (still && !near_change(position.xyz, kContactReach)) clipped = history.rgb, shadow_history = history_shadow;
   imageStore(resolved_color, pixel, vec4(mix(clipped, current.rgb, w), current.a));
   // History's depths, moved as this surface point moved in depth since.
   float moved = background ? 0.0 : passes.x - motion.z;
