@@ -152,6 +152,13 @@ float visibility(vec3 origin, vec3 dir, float t_min, float t_max, float tan_radi
         field_dir = mat3(only_field.world_to_field) * dir;
       }
     }
+    if (!jittered && nearby == 1) {
+      // (the one field's voxel is known without a sample: the jitter costs no step)
+      jittered = true;
+      t_start = t + jitter * pc.shadow_epsilon * only_field.scale.y;
+      t = t_start;
+      if (t >= t_max || t >= segment_end) continue;
+    }
     vec3 sample_ = nearby == 1 ? field_distance_at(only_field, field_origin + field_dir * t)
                                : nearby_distance(origin + dir * t, nearby);
     float h = sample_.y, voxel = sample_.z;
