@@ -1,6 +1,7 @@
 // Visibility shared from the quad pass (quad_visibility.comp): a pixel on
 // the same surface as the samples of the quads around it takes their value;
-// the others are listed for the fill pass (kShadeFill), which marches them.
+// the others are listed (list_for_next_pass) for the fill pass (kShadeFill),
+// which marches them.
 // Needs shade_inputs.glsl.h (quad_samples, quad_lights, fill list, G-buffer).
 
 // This pixel's share of the world light (light < 0) or of light `light`
@@ -28,9 +29,3 @@ float shared_visibility(ivec2 pixel, vec3 p, vec3 n, int light) {
   return weights > 0.0 ? sum / weights : -1.0;
 }
 
-// Leaves the pixel to the kShadeFill pass.
-void list_for_fill(ivec2 pixel) {
-  uint index = atomicAdd(fill_count, 1u);
-  if (index % 64u == 0u) atomicAdd(fill_groups.x, 1u);
-  fill_pixels[index] = uint(pixel.x) | uint(pixel.y) << 16u;
-}

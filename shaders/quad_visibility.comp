@@ -5,13 +5,40 @@
 // Shading, step 1: visibility for one pixel of each 2x2 quad (see
 // shade_inputs.glsl.h), one invocation per quad: the world light's, and in a
 // kShadeShared frame every light's too.
+// The world light's cones march only where they pass a field's box; half the
+// quads or more (a ground's, looking away from the objects on it) need no
+// march at all. SIMD lanes wait for the longest march of their group, so
+// the quads whose cones do march are listed (in the fill list's binding) and
+// marched by a kShadeSkyList pass over just those, packed together.
 #define RTSDF_QUAD_PASS
 #include "shared.h"
 
 layout(local_size_x = 8, local_size_y = 8) in;
 #include "shade_inputs.glsl.h"
 
+// The world light at a quad's sample (origin: its march start, n: its normal).
+float quad_sky(ivec2 quad, vec3 origin, vec3 n, float receiver_voxel, float jitter, ivec2 pixel) {
+  if (!wants_sky()) return 1.0;
+  if (kVisibilityMode == kVisibilityRayTraced) return world_light_visibility(origin, n, receiver_voxel, jitter, pixel);
+  float sky;
+  if (sky_without_march(origin, n, receiver_voxel, pixel, sky)) return sky;
+  list_for_next_pass(quad);
+  return 0.0;  // (the kShadeSkyList pass writes it)
+}
+
 void main() {
+  if (kShadeStage == kShadeSkyList) {
+    uint index = gl_WorkGroupID.x * 64u + gl_LocalInvocationIndex;
+    if (index >= fill_count) return;
+    ivec2 quad = ivec2(fill_pixels[index] & 0xffffu, fill_pixels[index] >> 16u);
+    ivec2 pixel = quad_sample_pixel(quad);
+    vec3 p = imageLoad(g_position, pixel).xyz;
+    vec3 n = facing_normal(pixel, p);
+    float receiver_voxel = imageLoad(g_albedo, pixel).a;
+    vec3 origin = march_origin(p, n, receiver_voxel);
+    imageStore(quad_samples, quad, vec4(n, sky_visibility(origin, n, receiver_voxel, hash(uvec3(pixel, pc.sequence)), pixel)));
+    return;
+  }
   ivec2 quad = ivec2(gl_GlobalInvocationID.xy);
   if (any(greaterThanEqual(quad, quad_grid()))) return;
   int quad_index = quad.x + quad_grid().x * quad.y;
@@ -28,8 +55,7 @@ void main() {
   float receiver_voxel = imageLoad(g_albedo, pixel).a;
   float jitter = hash(uvec3(pixel, pc.sequence));
   vec3 origin = march_origin(p, n, receiver_voxel);
-  float sky = wants_sky() ? world_light_visibility(origin, n, receiver_voxel, jitter, pixel) : 1.0;
-  imageStore(quad_samples, quad, vec4(n, sky));
+  imageStore(quad_samples, quad, vec4(n, quad_sky(quad, origin, n, receiver_voxel, jitter, pixel)));
   if (kShadeStage != kShadeShared) return;
   for (int l = 0; l < pc.light_count; ++l) {
     LightPath path = light_path(l, p, origin);

@@ -300,6 +300,24 @@ bool enters_sky_blocker(vec3 p, vec3 dir) {
   return false;
 }
 
+// Whether this frame's sky cones at a receiver (see sky_visibility) need no
+// march: each enters a sky blocker (0) or passes no field's box (1); `sky`
+// is then their share.
+bool sky_without_march(vec3 origin, vec3 n, float receiver_voxel, ivec2 pixel, out float sky) {
+  float sum = 0.0;
+  BvhNode root = field_nodes[0];
+  for (uint k = 0u; k < 2u; ++k) {
+    vec3 dir = sky_direction(n, pixel, k);
+    if (enters_sky_blocker(origin, dir)) continue;
+    vec2 span = ray_box_span(origin, safe_inverse(dir), root.lo.xyz, root.hi.xyz);
+    if (pc.field_instances != 0u && max(span.x, pc.receiver_clearance * receiver_voxel) < min(span.y, 1e10))
+      return false;
+    sum += 1.0;
+  }
+  sky = 0.5 * sum;
+  return true;
+}
+
 // receiver_voxel: the world voxel of the field holding the receiver (0: in none).
 float sky_visibility(vec3 origin, vec3 n, float receiver_voxel, float jitter, ivec2 pixel) {
   bool in_sdf = receiver_voxel > 0.0;

@@ -71,7 +71,7 @@ void main() {
     if (wants_sky()) {
       sky = shared_visibility(pixel, p, n, -1);
       if (sky < 0.0 && kShadeStage == kShadeShared) {
-        list_for_fill(pixel);
+        list_for_next_pass(pixel);
         return;
       }
       if (sky < 0.0) sky = world_light_visibility(origin, n, receiver_voxel, jitter, pixel);
@@ -86,7 +86,7 @@ void main() {
       } else if (kShadeStage == kShadeShared) {
         v = shared_visibility(pixel, p, n, l);
         if (v < 0.0) {
-          list_for_fill(pixel);
+          list_for_next_pass(pixel);
           return;
         }
       } else if (kVisibilityMode == kVisibilityShadowMaps) {

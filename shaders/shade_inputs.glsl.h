@@ -39,12 +39,20 @@ layout(binding = 12, rgba32f) uniform readonly image2D quad_samples;
 layout(std430, binding = 13) readonly buffer QuadLights { float quad_lights[]; };
 #endif
 // The pixels a kShadeShared pass left to kShadeFill (x | y << 16), and the
-// fill's indirect dispatch: one group of 64 per 64 listed.
+// fill's indirect dispatch: one group of 64 per 64 listed. The quad pass
+// lists quads alike for its kShadeSkyList pass.
 layout(std430, binding = 14) buffer FillList {
   uvec3 fill_groups;
   uint fill_count;
   uint fill_pixels[];
 };
+
+// Leaves a pixel (a quad, in the quad pass) to the pass over the list.
+void list_for_next_pass(ivec2 at) {
+  uint index = atomicAdd(fill_count, 1u);
+  if (index % 64u == 0u) atomicAdd(fill_groups.x, 1u);
+  fill_pixels[index] = uint(at.x) | uint(at.y) << 16u;
+}
 
 ivec2 quad_grid() { return (pc.image_size + 1) / 2; }
 int quad_count() { return quad_grid().x * quad_grid().y; }

@@ -193,6 +193,7 @@ const uint kVisibilityHybrid = 4u;       // march signed fields, and where they 
 const uint kShadeFull = 0u;    // every pixel marches its own lights (the world light: from the quad pass)
 const uint kShadeShared = 1u;  // every pixel takes all its light from the quad pass; lists those it cannot
 const uint kShadeFill = 2u;    // the listed pixels, shaded as kShadeFull
+const uint kShadeSkyList = 3u; // (the quad pass) the world light of the quads the quad pass listed
 
 // A distance field as the shadow march reads it (native/packed_field.h,
 // shaders/sdf_fields.glsl.h): one device buffer of 32-bit words reached by

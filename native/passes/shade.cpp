@@ -49,10 +49,12 @@ void ShadePass::resize(glm::ivec2 size, int lights) {
   if (size != size_) {
     quad_samples_ = vk::Image::plane(context_, quads.x, quads.y, VK_FORMAT_R32G32B32A32_SFLOAT, VK_IMAGE_USAGE_STORAGE_BIT);
     vk::make_general(context_, {&quad_samples_});
-    fill_list_ = vk::Buffer(context_, sizeof(uint32_t) * (4 + VkDeviceSize(size.x) * VkDeviceSize(size.y)),
-                            VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT |
-                                VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+    const VkBufferUsageFlags list_usage =
+        VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
+    fill_list_ = vk::Buffer(context_, sizeof(uint32_t) * (4 + VkDeviceSize(size.x) * VkDeviceSize(size.y)), list_usage,
                             vk::Buffer::Access::DeviceOnly);
+    sky_list_ = vk::Buffer(context_, sizeof(uint32_t) * (4 + VkDeviceSize(quads.x) * VkDeviceSize(quads.y)), list_usage,
+                           vk::Buffer::Access::DeviceOnly);
     quad_lights_ = {};
     size_ = size;
   }
@@ -76,7 +78,7 @@ void ShadePass::record(VkCommandBuffer cmd, const ShadeInputs& in, const ShadeTa
   const VkDeviceSize shared_bytes = sizeof(float) * VkDeviceSize(quads.x) * VkDeviceSize(quads.y) * push.light_count;
   if (size != size_ || (share_lights && quad_lights_.size() < shared_bytes))
     throw Error("ShadePass: resize() to the image and the lights first");
-  auto run = [&](const vk::Pipeline& pass) {
+  auto run = [&](const vk::Pipeline& pass, const vk::Buffer& list) {
     pass.bind(cmd);
     pass.push_descriptors(
         cmd, {vk::Resource::storage_image(gbuffer.position()), vk::Resource::storage_image(gbuffer.normal()),
@@ -87,7 +89,7 @@ void ShadePass::record(VkCommandBuffer cmd, const ShadeInputs& in, const ShadeTa
               vk::Resource::storage_buffer(shadow_maps ? shadow_maps->tiles() : no_shadow_tiles_),
               vk::Resource::storage_buffer(shadow_maps ? shadow_maps->light_tiles() : no_shadow_tiles_),
               vk::Resource::storage_buffer(fields.nodes()), vk::Resource::storage_image(quad_samples_),
-              vk::Resource::storage_buffer(quad_lights_), vk::Resource::storage_buffer(fill_list_),
+              vk::Resource::storage_buffer(quad_lights_), vk::Resource::storage_buffer(list),
               vk::Resource::storage_buffer(rays ? rays->top_nodes : no_rays_),
               vk::Resource::storage_buffer(rays ? rays->instances : no_shadow_tiles_),
               vk::Resource::storage_buffer(rays ? rays->bottom_nodes : no_shadow_tiles_),
@@ -98,23 +100,34 @@ void ShadePass::record(VkCommandBuffer cmd, const ShadeInputs& in, const ShadeTa
     vk::memory_barrier(cmd, VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT, dst_access,
                        VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT, dst_stage);
   };
+  const uint32_t empty_list[4] = {0u, 1u, 1u, 0u};  // no groups yet (x), 1 (y, z), nothing listed
+  // (the passes over a list count its groups of 64, their 8 x 8, in its first word)
+  const VkAccessFlags list_access =
+      VK_ACCESS_INDIRECT_COMMAND_READ_BIT | VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT;
+  const VkPipelineStageFlags list_stages = VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT | VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT;
   if (march_sky || share_lights) {
-    run(pipeline(Shader::Quad, mode, share_lights ? gpu::kShadeShared : gpu::kShadeFull, gpu::kDebugNone));
-    vkCmdDispatch(cmd, vk::group_count(quads.x, 8), vk::group_count(quads.y, 8), 1);
-    if (share_lights) {
-      const uint32_t empty_list[4] = {0u, 1u, 1u, 0u};  // no groups yet (x), 1 (y, z), no pixels
-      vkCmdUpdateBuffer(cmd, fill_list_.handle(), 0, sizeof empty_list, empty_list);
+    // The world light's cones that march are listed by the quad pass and marched by the sky pass.
+    const bool sky_list = march_sky && mode != gpu::kVisibilityRayTraced;
+    if (sky_list) {
+      vkCmdUpdateBuffer(cmd, sky_list_.handle(), 0, sizeof empty_list, empty_list);
+      barrier(VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT);
     }
+    run(pipeline(Shader::Quad, mode, share_lights ? gpu::kShadeShared : gpu::kShadeFull, gpu::kDebugNone), sky_list_);
+    vkCmdDispatch(cmd, vk::group_count(quads.x, 8), vk::group_count(quads.y, 8), 1);
+    if (sky_list) {
+      barrier(list_access, list_stages);
+      run(pipeline(Shader::Quad, mode, gpu::kShadeSkyList, gpu::kDebugNone), sky_list_);
+      vkCmdDispatchIndirect(cmd, sky_list_.handle(), 0);
+    }
+    if (share_lights) vkCmdUpdateBuffer(cmd, fill_list_.handle(), 0, sizeof empty_list, empty_list);
     barrier(VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT);
     if (timer) timer->mark(cmd, "quad");
   }
-  run(pipeline(Shader::Shade, mode, share_lights ? gpu::kShadeShared : gpu::kShadeFull, push.field_view));
+  run(pipeline(Shader::Shade, mode, share_lights ? gpu::kShadeShared : gpu::kShadeFull, push.field_view), fill_list_);
   vkCmdDispatch(cmd, vk::group_count(size.x, 8), vk::group_count(size.y, 8), 1);
   if (share_lights) {
-    // (shade.comp counts the listed pixels' groups of 64, its 8 x 8, in the list's first word)
-    barrier(VK_ACCESS_INDIRECT_COMMAND_READ_BIT | VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT,
-            VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT | VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT);
-    run(pipeline(Shader::Shade, mode, gpu::kShadeFill, push.field_view));
+    barrier(list_access, list_stages);
+    run(pipeline(Shader::Shade, mode, gpu::kShadeFill, push.field_view), fill_list_);
     vkCmdDispatchIndirect(cmd, fill_list_.handle(), 0);
   }
 }

@@ -78,6 +78,7 @@ class ShadePass {
   vk::Image quad_samples_;      // per 2x2 quad: its sample's normal and world light
   vk::Buffer quad_lights_;      // per light and quad: the light's visibility at the quad's sample
   vk::Buffer fill_list_;        // the fill pass's indirect dispatch, then the pixels it shades
+  vk::Buffer sky_list_;         // the sky pass's, then the quads whose world light it marches
 };
 
 }  // namespace rtsdf
