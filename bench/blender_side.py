@@ -131,11 +131,13 @@ def eevee():
     for cascade, samples in sweep:
         scene.eevee.shadow_cascade_size = cascade
         scene.eevee.shadow_cube_size = cascade
-        scene.eevee.taa_render_samples = samples
         for light in bpy.data.lights:
             if light.type == "SUN":
                 light.shadow_cascade_count = 4
-        render_pixels()  # warms up shaders and shadow maps
+        # One sample warms up the shaders and shadow maps: the timed render then compiles nothing.
+        scene.eevee.taa_render_samples = 1
+        render_pixels()
+        scene.eevee.taa_render_samples = samples
         image, seconds = render_pixels()
         name = f"eevee_{cascade}_{samples}"
         np.save(os.path.join(OUT, name + ".npy"), image)
