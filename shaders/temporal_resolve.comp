@@ -78,11 +78,15 @@ bool near_change(vec3 p, float reach) {
   return length(outside) <= reach * length(hi - lo);
 }
 
-// Whether history's texel q saw depth `depth`: within the range of depths
-// its samples saw (passes x to w), give or take depth_tolerance of it.
-bool same_depth(ivec2 q, float depth) {
-  vec4 range = imageLoad(history_passes, clamp(q, ivec2(0), pc.image_size - 1));
+// Whether a history texel whose passes are `range` saw depth `depth`: within
+// the range of depths its samples saw (passes x to w), give or take
+// depth_tolerance of it.
+bool saw_depth(vec4 range, float depth) {
   return depth >= range.x * (1.0 - pc.depth_tolerance) && depth <= range.w * (1.0 + pc.depth_tolerance);
+}
+
+bool same_depth(ivec2 q, float depth) {
+  return saw_depth(imageLoad(history_passes, clamp(q, ivec2(0), pc.image_size - 1)), depth);
 }
 
 // Whether a texel within jitter_reach pixels of q saw depth `depth`. The
@@ -134,7 +138,7 @@ void main() {
     if (any(lessThan(corner, ivec2(0))) || any(greaterThanEqual(corner, pc.image_size))) continue;
     vec4 before = imageLoad(history_passes, corner);
     full_samples = min(full_samples, before.z);
-    if (!same_depth(corner, motion.z)) {
+    if (!saw_depth(before, motion.z)) {
       if (!near_depth(corner, motion.z)) continue;
       before.z = min(before.z, kNearbyHistorySamples);
     }
