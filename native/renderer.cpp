@@ -426,6 +426,10 @@ void Renderer::begin(GpuScene& scene, const Camera& camera, const std::vector<Li
   frame_data_.steady_world_to_clip = world_to_clip_;
   const gpu::FrameData& drawn = has_history_ ? drawn_frame_ : frame_data_;
   frame_data_.previous_world_to_clip = has_history_ ? drawn.steady_world_to_clip : world_to_clip_;
+  frame_data_.steady_clip_to_previous_clip =
+      frame_data_.previous_world_to_clip == world_to_clip_
+          ? glm::mat4(1.0f)
+          : glm::mat4(glm::dmat4(frame_data_.previous_world_to_clip) * glm::inverse(glm::dmat4(world_to_clip_)));
   frame_data_.previous_camera_position = drawn.camera_position;
   frame_data_.previous_camera_forward = drawn.camera_forward;
   std::vector<glm::mat4> transforms;

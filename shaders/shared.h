@@ -135,6 +135,10 @@ struct FrameData {
   // World box of what moved or deformed among the shadow casters since the
   // last frame (the union of their old and new bounds; lo.w = 0: nothing).
   vec4 changed_lo, changed_hi;
+  // previous_world_to_clip times the inverse of steady_world_to_clip (the
+  // background's motion), made in double precision: the identity where the
+  // camera stayed.
+  mat4 steady_clip_to_previous_clip;
 };
 
 // What a G-buffer pixel holds (its position's w, and GBufferPush.base_color.w).
@@ -311,7 +315,7 @@ struct ShadowMapPush {
 static_assert(sizeof(BvhNode) == 48, "BvhNode layout");
 static_assert(sizeof(WindingDipole) == 32, "WindingDipole layout");
 static_assert(sizeof(GpuLight) == 64, "GpuLight layout");
-static_assert(sizeof(FrameData) == 112 + 32 * kMaxSkyBlockers + 2 * 64 + 4 * 16, "FrameData layout");
+static_assert(sizeof(FrameData) == 112 + 32 * kMaxSkyBlockers + 3 * 64 + 4 * 16, "FrameData layout");
 static_assert(sizeof(GBufferPush) == 96, "GBufferPush layout");
 static_assert(sizeof(GpuMaterial) == 32, "GpuMaterial layout");
 static_assert(sizeof(ShadePush) == 96, "ShadePush layout");

@@ -113,15 +113,20 @@ void main() {
   imageStore(resolved_color, pixel, current);  // (where history cannot help: this sample alone)
   imageStore(resolved_passes, pixel, passes);
   bool background = position.w <= 0.0;
-  vec3 on_ray = position.xyz;  // a point on this pixel's camera ray (the background's: on the far plane)
+  vec3 on_ray = position.xyz;  // a point on this pixel's camera ray (the background's: on the near plane)
   if (background) {
     // The world behind everything moves with the camera alone: where this
-    // pixel's ray met the far plane, seen from the last camera.
+    // pixel's ray met the far plane (with none, as cameras from Blender
+    // have, the ray's direction: a homogeneous point at infinity), seen
+    // from the last camera. Through the one matrix made in double
+    // precision: a camera that stays puts the background exactly where it
+    // was, and it settles (an inverse in single precision of a projection
+    // without far plane put it anywhere, and the horizon flickered).
     vec2 ndc = (vec2(pixel) + 0.5) / vec2(pc.image_size) * 2.0 - 1.0;
-    vec4 far_point = inverse(frame.steady_world_to_clip) * vec4(ndc, 1.0, 1.0);
-    vec4 before = frame.previous_world_to_clip * vec4(far_point.xyz / far_point.w, 1.0);
-    if (abs(far_point.w) < 1e-20 || before.w <= 0.0) return;
-    on_ray = far_point.xyz / far_point.w;
+    vec4 near_point = inverse(frame.steady_world_to_clip) * vec4(ndc, 0.0, 1.0);
+    vec4 before = frame.steady_clip_to_previous_clip * vec4(ndc, 1.0, 1.0);
+    if (abs(near_point.w) < 1e-20 || before.w <= 0.0) return;
+    on_ray = near_point.xyz / near_point.w;
     motion = vec4(before.xy / before.w - ndc, kNothingHitDepth, 1.0);
   }
   if (motion.w <= 0.0) return;  // (behind the last camera)
