@@ -60,6 +60,16 @@ vec3 surface_normal_at(vec3 origin, vec3 dir, vec3 inv_dir, float t, float voxel
   return dot(g, g) > 0.0 ? normalize(g) : vec3(0.0);
 }
 
+// The part of [t_min, t_max] along a ray that lies in the box of all
+// fields, the only place where a clearance is known (field_distance); empty
+// (x >= y) where the ray misses it or there are no fields: nothing to march.
+vec2 span_in_fields(vec3 origin, vec3 inv_dir, float t_min, float t_max) {
+  if (pc.field_instances == 0u) return vec2(1.0, 0.0);
+  BvhNode root = field_nodes[0];
+  vec2 span = ray_box_span(origin, inv_dir, root.lo.xyz, root.hi.xyz);
+  return vec2(max(t_min, span.x), min(t_max, span.y));
+}
+
 // Fraction of the light visible from `origin` along `dir` up to `t_max`;
 // tan_radius = tangent of the light's angular radius (0: a hard shadow).
 // Each sample's clearance from the surfaces is compared with the light cone's
@@ -106,15 +116,11 @@ vec3 surface_normal_at(vec3 origin, vec3 dir, vec3 inv_dir, float t, float voxel
 float visibility(vec3 origin, vec3 dir, float t_min, float t_max, float tan_radius, float jitter, float escape,
                  vec3 own_normal, bool axis_blocks, bool classify, out bool crossed_sheet) {
   crossed_sheet = false;
-  if (pc.field_instances == 0u) return 1.0;
   vec3 inv_dir = safe_inverse(dir);
-  // Only inside a field's box is a clearance known (field_distance): clip to
-  // the box of all fields.
-  BvhNode root = field_nodes[0];
-  vec2 span = ray_box_span(origin, inv_dir, root.lo.xyz, root.hi.xyz);
-  t_min = max(t_min, span.x);
-  t_max = min(t_max, span.y);
-  if (t_min >= t_max) return 1.0;
+  vec2 span = span_in_fields(origin, inv_dir, t_min, t_max);
+  if (span.x >= span.y) return 1.0;
+  t_min = span.x;
+  t_max = span.y;
   const bool unsigned_field = kVisibilityMode == kVisibilityUnsignedSdf;
   float t = t_min, t_start = t_min;
   float ratio = 1.0;  // smallest clearance / cone radius seen
@@ -300,18 +306,19 @@ bool enters_sky_blocker(vec3 p, vec3 dir) {
   return false;
 }
 
+// How far the sky's cones march (to the fields' far side).
+const float kSkyDistance = 1e10;
+
 // Whether this frame's sky cones at a receiver (see sky_visibility) need no
 // march: each enters a sky blocker (0) or passes no field's box (1); `sky`
 // is then their share.
 bool sky_without_march(vec3 origin, vec3 n, float receiver_voxel, ivec2 pixel, out float sky) {
   float sum = 0.0;
-  BvhNode root = field_nodes[0];
   for (uint k = 0u; k < 2u; ++k) {
     vec3 dir = sky_direction(n, pixel, k);
     if (enters_sky_blocker(origin, dir)) continue;
-    vec2 span = ray_box_span(origin, safe_inverse(dir), root.lo.xyz, root.hi.xyz);
-    if (pc.field_instances != 0u && max(span.x, pc.receiver_clearance * receiver_voxel) < min(span.y, 1e10))
-      return false;
+    vec2 span = span_in_fields(origin, safe_inverse(dir), pc.receiver_clearance * receiver_voxel, kSkyDistance);
+    if (span.x < span.y) return false;
     sum += 1.0;
   }
   sky = 0.5 * sum;
@@ -326,7 +333,7 @@ float sky_visibility(vec3 origin, vec3 n, float receiver_voxel, float jitter, iv
     vec3 dir = sky_direction(n, pixel, k);
     if (enters_sky_blocker(origin, dir)) continue;
     bool crossed_sheet;  // (never with axis_blocks)
-    sum += visibility(origin, dir, pc.receiver_clearance * receiver_voxel, 1e10, 0.35, jitter, 2.0 * receiver_voxel,
+    sum += visibility(origin, dir, pc.receiver_clearance * receiver_voxel, kSkyDistance, 0.35, jitter, 2.0 * receiver_voxel,
                       in_sdf ? n : vec3(0.0), true, false, crossed_sheet);
   }
   return 0.5 * sum;

@@ -64,6 +64,28 @@ void move_cube(GpuScene& scene, float x) {
   scene.set_transforms({glm::translate(glm::mat4(1.0f), glm::vec3(x, 0, 0)), glm::mat4(1.0f)});
 }
 
+// The tilted sun with a wide, noisy penumbra.
+Light wide_sun() {
+  Light sun = tilted_sun();
+  sun.sun_angle = float(20.0 * M_PI / 180.0);
+  return sun;
+}
+
+// cube_over_ground's cube at (moving_x, moving_y), which moves, and a second
+// one, still, at (-0.5, still_y): the transforms, then the scene.
+std::vector<glm::mat4> two_cubes_at(float moving_x, float moving_y, float still_y) {
+  return {glm::translate(glm::mat4(1.0f), glm::vec3(moving_x, moving_y, 0)), glm::mat4(1.0f),
+          glm::translate(glm::mat4(1.0f), glm::vec3(-0.5f, still_y, 0))};
+}
+
+Scene two_cubes(float moving_y, float still_y) {
+  Scene scene = cube_over_ground();
+  const std::vector<glm::mat4> at = two_cubes_at(-0.5f, moving_y, still_y);
+  scene.instances[0].object_to_world = at[0];
+  scene.instances.push_back({0, at[2], glm::vec3(0.8f)});
+  return scene;
+}
+
 // After 4 frames, the cube moves: the G-buffer's motion on its top is the
 // analytic one (the top view maps 4 units to 2 in normalized coordinates),
 // 0 on the ground; history carries over on the still ground (4 samples) and
@@ -231,8 +253,7 @@ TEST_F(TemporalTest, AMovedObjectLeavesNoSilhouetteOnTheSky) {
 // sequences), so 16 such frames come about as close to the converged image as
 // 16 frames accumulated without a change, not stuck at the first sample.
 TEST_F(TemporalTest, PlaybackFramesOfAStillSceneConvergeLikeAnAccumulation) {
-  Light sun = tilted_sun();
-  sun.sun_angle = float(20.0 * M_PI / 180.0);  // (a wide penumbra: most of the noise there is)
+  const Light sun = wide_sun();  // (most of the noise is in its penumbra)
   auto shadow_of = [&](int samples) {
     GpuScene scene(context(), cube_over_ground());
     Renderer renderer(context());
@@ -269,12 +290,8 @@ TEST_F(TemporalTest, PlaybackFramesOfAStillSceneConvergeLikeAnAccumulation) {
 // they were (they are settled: no new jittered sample makes them shimmer),
 // while the moving cube's shadow follows it.
 TEST_F(TemporalTest, SettledPixelsDoNotShimmerDuringPlayback) {
-  Light sun = tilted_sun();
-  sun.sun_angle = float(20.0 * M_PI / 180.0);  // (a wide, noisy penumbra)
-  Scene two = cube_over_ground();
-  two.instances[0].object_to_world = glm::translate(glm::mat4(1.0f), glm::vec3(-0.5f, 1.0f, 0));  // moves
-  two.instances.push_back({0, glm::translate(glm::mat4(1.0f), glm::vec3(-0.5f, -1.0f, 0)), glm::vec3(0.8f)});
-  GpuScene scene(context(), two);
+  Light sun = wide_sun();
+  GpuScene scene(context(), two_cubes(1.0f, -1.0f));
   Renderer renderer(context());
   RenderSettings settings = playback_settings();
   settings.samples = 8;
@@ -282,8 +299,7 @@ TEST_F(TemporalTest, SettledPixelsDoNotShimmerDuringPlayback) {
   for (int frame = 0; frame < settings.samples; ++frame) renderer.add_frame();
   std::vector<std::vector<float>> frames;
   for (int step = 1; step <= 3; ++step) {
-    scene.set_transforms({glm::translate(glm::mat4(1.0f), glm::vec3(-0.5f + 0.1f * float(step), 1.0f, 0)),
-                          glm::mat4(1.0f), glm::translate(glm::mat4(1.0f), glm::vec3(-0.5f, -1.0f, 0))});
+    scene.set_transforms(two_cubes_at(-0.5f + 0.1f * float(step), 1.0f, -1.0f));
     renderer.begin(scene, top_view(), {sun}, glm::vec3(0.05f), kSize, kSize, settings, true);
     renderer.add_frame();
     frames.push_back(renderer.read().shadow);
@@ -324,12 +340,8 @@ TEST_F(TemporalTest, SettledPixelsDoNotShimmerDuringPlayback) {
 // noise; clipped to this frame's one-sample neighbourhood, it took
 // much of that noise whole.
 TEST_F(TemporalTest, AStillPixelNearWhatMovedTakesOnlyItsNewSamplesShare) {
-  Light sun = tilted_sun();
-  sun.sun_angle = float(20.0 * M_PI / 180.0);  // (a wide, noisy penumbra)
-  Scene two = cube_over_ground();
-  two.instances[0].object_to_world = glm::translate(glm::mat4(1.0f), glm::vec3(-0.5f, 0.5f, 0));  // moves
-  two.instances.push_back({0, glm::translate(glm::mat4(1.0f), glm::vec3(-0.5f, -0.5f, 0)), glm::vec3(0.8f)});
-  GpuScene scene(context(), two);
+  Light sun = wide_sun();
+  GpuScene scene(context(), two_cubes(0.5f, -0.5f));
   RenderSettings settings = playback_settings();
   settings.samples = 8;
   settings.quick_first_frame = true;  // (as the viewport: the frame after a change shares the quads' visibility)
@@ -370,8 +382,7 @@ TEST_F(TemporalTest, AStillPixelNearWhatMovedTakesOnlyItsNewSamplesShare) {
   std::vector<float> previous = converged;
   double near_change = 0.0, moving_change = 0.0;
   for (int step = 1; step <= 4; ++step) {
-    scene.set_transforms({glm::translate(glm::mat4(1.0f), glm::vec3(-0.5f + 0.05f * float(step), 0.5f, 0)),
-                          glm::mat4(1.0f), glm::translate(glm::mat4(1.0f), glm::vec3(-0.5f, -0.5f, 0))});
+    scene.set_transforms(two_cubes_at(-0.5f + 0.05f * float(step), 0.5f, -0.5f));
     renderer.begin(scene, top_view(), {sun}, sky, kSize, kSize, settings, true);
     renderer.add_frame();
     const std::vector<float> shadow = brightness(renderer.read());
