@@ -352,6 +352,10 @@ bool same_settings(const RenderSettings& a, const RenderSettings& b) {
 void Renderer::begin(GpuScene& scene, const Camera& camera, const std::vector<Light>& lights, glm::vec3 ambient,
                      int width, int height, const RenderSettings& settings, bool scene_changed) {
   validate(width, height, settings);
+  // (the temporal pass inverts the projection: a degenerate camera would put NaNs in every reprojection)
+  const double camera_determinant = glm::determinant(glm::dmat4(camera.projection) * glm::dmat4(camera.world_to_view));
+  if (!std::isfinite(camera_determinant) || camera_determinant == 0.0)
+    throw Error("camera: its view and projection must be finite and invertible");
   const std::vector<gpu::GpuLight> gpu_lights = to_gpu(lights);  // (checks the lights first)
   const Clock::time_point start = Clock::now();
   timings_ = {};

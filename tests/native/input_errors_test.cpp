@@ -5,6 +5,8 @@
 #include "coarse_sdf.h"
 #include "mesh_import.h"
 #include "reference/shapes.h"
+#include "renderer.h"
+#include <glm/gtc/matrix_transform.hpp>
 #include "vulkan_test.h"
 
 namespace rtsdf {
@@ -97,6 +99,21 @@ TEST_F(InputErrors, DynamicUpdatesRejectBadTransformsAndVertexCounts) {
   EXPECT_EQ(scene.scene().meshes[0].positions[1], glm::vec3(1, 0, 0));
   EXPECT_EQ(scene.mesh_version(0), 0u);
   EXPECT_EQ(scene.bounds().hi.x, 1.0f);
+}
+
+TEST_F(InputErrors, DegenerateCameraIsRefused) {
+  GpuScene scene(context(), single_mesh_scene(reference::box({0, 0, 0}, {1, 1, 1})));
+  Renderer renderer(context());
+  Camera camera;
+  camera.world_to_view = glm::lookAt(glm::vec3(3, 3, 3), glm::vec3(0), glm::vec3(0, 0, 1));
+  camera.projection = glm::mat4(0.0f);  // (no projection at all)
+  auto begin = [&] { renderer.begin(scene, camera, {}, glm::vec3(0.1f), 16, 16, RenderSettings{}, true); };
+  EXPECT_NE(error_of(begin).find("camera"), std::string::npos);
+  camera.projection = glm::perspective(0.8f, 1.0f, 0.1f, 10.0f);
+  camera.world_to_view[3][0] = std::numeric_limits<float>::quiet_NaN();
+  EXPECT_NE(error_of(begin).find("camera"), std::string::npos);
+  camera.world_to_view[3][0] = 0.0f;
+  EXPECT_EQ(error_of(begin), "") << "a proper camera renders";
 }
 
 TEST_F(InputErrors, NoMatchingDeviceName) {
