@@ -278,9 +278,18 @@ Context::Context(const ContextOptions& options) {
 
 Context::~Context() { release(); }
 
+std::shared_ptr<const void> Context::shared(const std::string& key,
+                                            const std::function<std::shared_ptr<const void>()>& make) const {
+  std::lock_guard<std::mutex> lock(shared_mutex_);
+  std::shared_ptr<const void>& kept = shared_[key];
+  if (!kept) kept = make();
+  return kept;
+}
+
 void Context::release() {
   if (device_) {
     vkDeviceWaitIdle(device_);
+    shared_.clear();  // (their objects belong to the device)
     if (command_pool_) vkDestroyCommandPool(device_, command_pool_, nullptr);
     vkDestroyDevice(device_, nullptr);
     device_ = VK_NULL_HANDLE;

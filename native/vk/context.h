@@ -4,6 +4,8 @@
 
 #include <atomic>
 #include <functional>
+#include <map>
+#include <memory>
 #include <mutex>
 #include <string>
 #include <vector>
@@ -60,6 +62,12 @@ class Context {
   // Records commands into a one-time command buffer, submits and waits.
   void submit_and_wait(const std::function<void(VkCommandBuffer)>& record) const;
 
+  // The object kept under `key`, made by `make` on the first call: objects
+  // every user of the context shares (compiled pipelines, see vk::Pipeline),
+  // kept until the context goes.
+  std::shared_ptr<const void> shared(const std::string& key,
+                                     const std::function<std::shared_ptr<const void>()>& make) const;
+
   // Validation messages (warnings and errors) seen since creation.
   int validation_message_count() const { return validation_messages_.load(); }
 
@@ -83,6 +91,8 @@ class Context {
   uint32_t queue_family_ = 0;
   VkCommandPool command_pool_ = VK_NULL_HANDLE;
   mutable std::mutex submit_mutex_;
+  mutable std::mutex shared_mutex_;
+  mutable std::map<std::string, std::shared_ptr<const void>> shared_;
   VkPhysicalDeviceProperties properties_{};
   VkPhysicalDeviceMemoryProperties memory_{};
   DeviceInfo info_;

@@ -1,5 +1,7 @@
 #include "vk/pipeline.h"
 
+#include <cstring>
+
 #include "vk/context.h"
 #include "vk/resources.h"
 
@@ -42,6 +44,62 @@ VkSpecializationInfo specialization_info(const std::vector<uint32_t>& values,
   return {uint32_t(entries.size()), entries.data(), values.size() * sizeof(uint32_t), values.data()};
 }
 
+// A pipeline's Vulkan objects, destroyed with the last Pipeline or context that holds them.
+struct PipelineObjects {
+  VkDevice device = VK_NULL_HANDLE;
+  VkShaderStageFlags stages = 0;
+  VkDescriptorSetLayout set_layout = VK_NULL_HANDLE;
+  VkPipelineLayout layout = VK_NULL_HANDLE;
+  VkRenderPass render_pass = VK_NULL_HANDLE;
+  VkPipeline pipeline = VK_NULL_HANDLE;
+  explicit PipelineObjects(VkDevice d) : device(d) {}
+  PipelineObjects(const PipelineObjects&) = delete;
+  PipelineObjects& operator=(const PipelineObjects&) = delete;
+  ~PipelineObjects() {
+    if (pipeline) vkDestroyPipeline(device, pipeline, nullptr);
+    if (render_pass) vkDestroyRenderPass(device, render_pass, nullptr);
+    if (layout) vkDestroyPipelineLayout(device, layout, nullptr);
+    if (set_layout) vkDestroyDescriptorSetLayout(device, set_layout, nullptr);
+  }
+};
+
+void create_layout(PipelineObjects& objects, const std::vector<VkDescriptorType>& bindings, uint32_t push_bytes,
+                   VkShaderStageFlags stages) {
+  objects.stages = stages;
+  std::vector<VkDescriptorSetLayoutBinding> layout_bindings;
+  for (uint32_t i = 0; i < bindings.size(); ++i) layout_bindings.push_back({i, bindings[i], 1, stages, nullptr});
+  VkDescriptorSetLayoutCreateInfo set_info{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
+  set_info.flags = VK_DESCRIPTOR_SET_LAYOUT_CREATE_PUSH_DESCRIPTOR_BIT_KHR;
+  set_info.bindingCount = uint32_t(layout_bindings.size());
+  set_info.pBindings = layout_bindings.data();
+  VK_CHECK(vkCreateDescriptorSetLayout(objects.device, &set_info, nullptr, &objects.set_layout));
+  VkPushConstantRange range{stages, 0, push_bytes};
+  VkPipelineLayoutCreateInfo layout_info{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
+  layout_info.setLayoutCount = 1;
+  layout_info.pSetLayouts = &objects.set_layout;
+  layout_info.pushConstantRangeCount = push_bytes > 0 ? 1 : 0;
+  layout_info.pPushConstantRanges = &range;
+  VK_CHECK(vkCreatePipelineLayout(objects.device, &layout_info, nullptr, &objects.layout));
+}
+
+// What tells pipelines apart: every creation parameter, the shaders by their
+// words' address (each a constant array of the binary).
+template <typename T>
+void append(std::string& key, const T& value) {
+  key.append(reinterpret_cast<const char*>(&value), sizeof value);
+}
+
+std::string pipeline_key(std::initializer_list<Spirv> shaders, const std::vector<VkDescriptorType>& bindings,
+                         uint32_t push_bytes, const std::vector<uint32_t>& words) {
+  std::string key;
+  for (const Spirv& shader : shaders) append(key, shader.words), append(key, shader.bytes);
+  append(key, bindings.size());
+  for (VkDescriptorType type : bindings) append(key, type);
+  append(key, push_bytes);
+  for (uint32_t word : words) append(key, word);
+  return key;
+}
+
 }  // namespace
 
 Resource Resource::storage_image(const Image& image) {
@@ -56,48 +114,33 @@ Resource Resource::storage_buffer(const Buffer& buffer) {
   return r;
 }
 
-void Pipeline::create_layout(std::vector<VkDescriptorType> bindings, uint32_t push_bytes, VkShaderStageFlags stages) {
-  stages_ = stages;
-  std::vector<VkDescriptorSetLayoutBinding> layout_bindings;
-  for (uint32_t i = 0; i < bindings.size(); ++i) layout_bindings.push_back({i, bindings[i], 1, stages, nullptr});
-  VkDescriptorSetLayoutCreateInfo set_info{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
-  set_info.flags = VK_DESCRIPTOR_SET_LAYOUT_CREATE_PUSH_DESCRIPTOR_BIT_KHR;
-  set_info.bindingCount = uint32_t(layout_bindings.size());
-  set_info.pBindings = layout_bindings.data();
-  VK_CHECK(vkCreateDescriptorSetLayout(device_, &set_info, nullptr, &set_layout_));
-  VkPushConstantRange range{stages, 0, push_bytes};
-  VkPipelineLayoutCreateInfo layout_info{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
-  layout_info.setLayoutCount = 1;
-  layout_info.pSetLayouts = &set_layout_;
-  layout_info.pushConstantRangeCount = push_bytes > 0 ? 1 : 0;
-  layout_info.pPushConstantRanges = &range;
-  VK_CHECK(vkCreatePipelineLayout(device_, &layout_info, nullptr, &layout_));
-}
-
 Pipeline::Pipeline(const Context& context, Spirv compute, std::vector<VkDescriptorType> bindings,
                    uint32_t push_bytes, const std::vector<uint32_t>& specialization)
-    : device_(context.device()), bind_point_(VK_PIPELINE_BIND_POINT_COMPUTE) {
-  try {
-    create_layout(std::move(bindings), push_bytes, VK_SHADER_STAGE_COMPUTE_BIT);
-    ShaderModule module(device_, compute);
+    : bind_point_(VK_PIPELINE_BIND_POINT_COMPUTE) {
+  adopt(context.shared(pipeline_key({compute}, bindings, push_bytes, specialization), [&] {
+    auto objects = std::make_shared<PipelineObjects>(context.device());
+    create_layout(*objects, bindings, push_bytes, VK_SHADER_STAGE_COMPUTE_BIT);
+    ShaderModule module(objects->device, compute);
     std::vector<VkSpecializationMapEntry> entries;
     const VkSpecializationInfo constants = specialization_info(specialization, entries);
     VkComputePipelineCreateInfo info{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
     info.stage = stage_info(VK_SHADER_STAGE_COMPUTE_BIT, module);
     if (!specialization.empty()) info.stage.pSpecializationInfo = &constants;
-    info.layout = layout_;
-    VK_CHECK(vkCreateComputePipelines(device_, VK_NULL_HANDLE, 1, &info, nullptr, &pipeline_));
-  } catch (...) {
-    release();
-    throw;
-  }
+    info.layout = objects->layout;
+    VK_CHECK(vkCreateComputePipelines(objects->device, VK_NULL_HANDLE, 1, &info, nullptr, &objects->pipeline));
+    return std::shared_ptr<const void>(objects);
+  }));
 }
 
 Pipeline::Pipeline(const Context& context, Spirv vertex, Spirv fragment, std::vector<VkDescriptorType> bindings,
                    uint32_t push_bytes, const RenderTargets& targets)
-    : device_(context.device()), bind_point_(VK_PIPELINE_BIND_POINT_GRAPHICS) {
-  try {
-    create_layout(std::move(bindings), push_bytes, VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT);
+    : bind_point_(VK_PIPELINE_BIND_POINT_GRAPHICS) {
+  std::vector<uint32_t> target_words(targets.colors.begin(), targets.colors.end());
+  target_words.push_back(uint32_t(targets.depth));
+  adopt(context.shared(pipeline_key({vertex, fragment}, bindings, push_bytes, target_words), [&] {
+    auto objects = std::make_shared<PipelineObjects>(context.device());
+    const VkDevice device = objects->device;
+    create_layout(*objects, bindings, push_bytes, VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT);
 
     std::vector<VkAttachmentDescription> attachments;
     std::vector<VkAttachmentReference> color_refs;
@@ -143,9 +186,9 @@ Pipeline::Pipeline(const Context& context, Spirv vertex, Spirv fragment, std::ve
     pass_info.pSubpasses = &subpass;
     pass_info.dependencyCount = 2;
     pass_info.pDependencies = dependencies;
-    VK_CHECK(vkCreateRenderPass(device_, &pass_info, nullptr, &render_pass_));
+    VK_CHECK(vkCreateRenderPass(device, &pass_info, nullptr, &objects->render_pass));
 
-    ShaderModule vs(device_, vertex), fs(device_, fragment);
+    ShaderModule vs(device, vertex), fs(device, fragment);
     VkPipelineShaderStageCreateInfo stages[] = {stage_info(VK_SHADER_STAGE_VERTEX_BIT, vs),
                                                 stage_info(VK_SHADER_STAGE_FRAGMENT_BIT, fs)};
     VkPipelineVertexInputStateCreateInfo vertex_input{VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO};
@@ -187,26 +230,20 @@ Pipeline::Pipeline(const Context& context, Spirv vertex, Spirv fragment, std::ve
     info.pDepthStencilState = &depth;
     info.pColorBlendState = &blend;
     info.pDynamicState = &dynamic;
-    info.layout = layout_;
-    info.renderPass = render_pass_;
-    VK_CHECK(vkCreateGraphicsPipelines(device_, VK_NULL_HANDLE, 1, &info, nullptr, &pipeline_));
-  } catch (...) {
-    release();
-    throw;
-  }
+    info.layout = objects->layout;
+    info.renderPass = objects->render_pass;
+    VK_CHECK(vkCreateGraphicsPipelines(device, VK_NULL_HANDLE, 1, &info, nullptr, &objects->pipeline));
+    return std::shared_ptr<const void>(objects);
+  }));
 }
 
-Pipeline::~Pipeline() { release(); }
-
-void Pipeline::release() {
-  if (pipeline_) vkDestroyPipeline(device_, pipeline_, nullptr);
-  if (render_pass_) vkDestroyRenderPass(device_, render_pass_, nullptr);
-  if (layout_) vkDestroyPipelineLayout(device_, layout_, nullptr);
-  if (set_layout_) vkDestroyDescriptorSetLayout(device_, set_layout_, nullptr);
-  pipeline_ = VK_NULL_HANDLE;
-  render_pass_ = VK_NULL_HANDLE;
-  layout_ = VK_NULL_HANDLE;
-  set_layout_ = VK_NULL_HANDLE;
+void Pipeline::adopt(std::shared_ptr<const void> objects) {
+  const auto& made = *static_cast<const PipelineObjects*>(objects.get());
+  stages_ = made.stages;
+  layout_ = made.layout;
+  render_pass_ = made.render_pass;
+  pipeline_ = made.pipeline;
+  objects_ = std::move(objects);
 }
 
 void Pipeline::bind(VkCommandBuffer cmd) const { vkCmdBindPipeline(cmd, bind_point_, pipeline_); }

@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <glm/glm.hpp>
 #include <initializer_list>
+#include <memory>
 #include <vector>
 
 namespace rtsdf::vk {
@@ -37,6 +38,9 @@ struct RenderTargets {
   VkFormat depth = VK_FORMAT_UNDEFINED;
 };
 
+// Its Vulkan objects are made once per context and creation parameters and
+// shared by every Pipeline made alike (see Context::shared): renderers made
+// later in a session (a new viewport, the next F12 render) compile nothing.
 class Pipeline {
  public:
   // A compute pipeline; `specialization[i]` is the value of the shader's
@@ -48,7 +52,6 @@ class Pipeline {
   // and scissor are dynamic.
   Pipeline(const Context& context, Spirv vertex, Spirv fragment, std::vector<VkDescriptorType> bindings,
            uint32_t push_bytes, const RenderTargets& targets = {});
-  ~Pipeline();
   Pipeline(const Pipeline&) = delete;
   Pipeline& operator=(const Pipeline&) = delete;
 
@@ -61,14 +64,13 @@ class Pipeline {
   VkRenderPass render_pass() const { return render_pass_; }
 
  private:
-  void create_layout(std::vector<VkDescriptorType> bindings, uint32_t push_bytes, VkShaderStageFlags stages);
   void push_constant_bytes(VkCommandBuffer cmd, const void* data, uint32_t bytes) const;
-  void release();
+  // Takes the handles of the shared objects (PipelineObjects in pipeline.cpp).
+  void adopt(std::shared_ptr<const void> objects);
 
-  VkDevice device_;
+  std::shared_ptr<const void> objects_;  // owns the handles below
   VkPipelineBindPoint bind_point_;
   VkShaderStageFlags stages_ = 0;
-  VkDescriptorSetLayout set_layout_ = VK_NULL_HANDLE;
   VkPipelineLayout layout_ = VK_NULL_HANDLE;
   VkRenderPass render_pass_ = VK_NULL_HANDLE;
   VkPipeline pipeline_ = VK_NULL_HANDLE;
