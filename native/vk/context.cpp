@@ -286,6 +286,11 @@ std::shared_ptr<const void> Context::shared(const std::string& key,
   return kept;
 }
 
+size_t Context::shared_object_count() const {
+  std::lock_guard<std::mutex> lock(shared_mutex_);
+  return shared_.size();
+}
+
 void Context::release() {
   if (device_) {
     vkDeviceWaitIdle(device_);

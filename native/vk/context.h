@@ -67,6 +67,7 @@ class Context {
   // kept until the context goes.
   std::shared_ptr<const void> shared(const std::string& key,
                                      const std::function<std::shared_ptr<const void>()>& make) const;
+  size_t shared_object_count() const;
 
   // Validation messages (warnings and errors) seen since creation.
   int validation_message_count() const { return validation_messages_.load(); }

@@ -236,6 +236,25 @@ TEST(PixelFilter, JitterIsDistributedAsTheBlackmanHarrisWindow) {
   EXPECT_FLOAT_EQ(pixel_filter_offset(0.25f, 0.0f), -0.25f);
 }
 
+// Renderers of one context share its compiled pipelines: a second one, as
+// a new viewport or the next F12 render makes, compiles nothing.
+TEST_F(RendererTest, ASecondRendererOfAContextMakesNoPipeline) {
+  GpuScene scene(context(), box_on_ground({-0.5f, -0.5f, 0.0f}, {0.5f, 0.5f, 1.0f}, 4.0f));
+  const Camera camera = orthographic_view({0, 0, 10}, {0, 0, 0}, {0, 1, 0}, 2.0f);
+  Light sun;
+  sun.type = LightType::Sun;
+  sun.direction = glm::normalize(glm::vec3(0.3f, 0.2f, -1.0f));
+  sun.sun_angle = 0.1f;
+  RenderSettings settings;
+  settings.samples = 2;
+  { Renderer(context()).render(scene, camera, {sun}, glm::vec3(0.1f), 32, 32, settings); }
+  const size_t made = context().shared_object_count();
+  EXPECT_GT(made, 0u);
+  RenderOutput again = Renderer(context()).render(scene, camera, {sun}, glm::vec3(0.1f), 32, 32, settings);
+  EXPECT_EQ(context().shared_object_count(), made);
+  EXPECT_EQ(again.combined.size(), size_t(4 * 32 * 32));
+}
+
 TEST_F(RendererTest, BadSizesAndLightsAreErrors) {
   GpuScene scene(context(), single_mesh_scene(reference::box({-1, -1, -1}, {1, 1, 1})));
   Renderer renderer(context());
