@@ -26,16 +26,22 @@ float quad_sky(ivec2 quad, vec3 origin, vec3 n, float receiver_voxel, float jitt
   return 0.0;  // (the kShadeSkyList pass writes it)
 }
 
+// A quad's sample on a surface at p (its pixel's position): its facing
+// normal, the voxel of the field holding it and its march start.
+void sample_surface(ivec2 pixel, vec3 p, out vec3 n, out float receiver_voxel, out vec3 origin) {
+  n = facing_normal(pixel, p);
+  receiver_voxel = imageLoad(g_albedo, pixel).a;
+  origin = march_origin(p, n, receiver_voxel);
+}
+
 void main() {
+  vec3 n, origin;
+  float receiver_voxel;
   if (kShadeStage == kShadeSkyList) {
-    uint index = gl_WorkGroupID.x * 64u + gl_LocalInvocationIndex;
-    if (index >= fill_count) return;
-    ivec2 quad = ivec2(fill_pixels[index] & 0xffffu, fill_pixels[index] >> 16u);
+    ivec2 quad;
+    if (!listed_for_this_pass(quad)) return;
     ivec2 pixel = quad_sample_pixel(quad);
-    vec3 p = imageLoad(g_position, pixel).xyz;
-    vec3 n = facing_normal(pixel, p);
-    float receiver_voxel = imageLoad(g_albedo, pixel).a;
-    vec3 origin = march_origin(p, n, receiver_voxel);
+    sample_surface(pixel, imageLoad(g_position, pixel).xyz, n, receiver_voxel, origin);
     imageStore(quad_samples, quad, vec4(n, sky_visibility(origin, n, receiver_voxel, hash(uvec3(pixel, pc.sequence)), pixel)));
     return;
   }
@@ -51,10 +57,8 @@ void main() {
     return;
   }
   vec3 p = position.xyz;
-  vec3 n = facing_normal(pixel, p);
-  float receiver_voxel = imageLoad(g_albedo, pixel).a;
+  sample_surface(pixel, p, n, receiver_voxel, origin);
   float jitter = hash(uvec3(pixel, pc.sequence));
-  vec3 origin = march_origin(p, n, receiver_voxel);
   imageStore(quad_samples, quad, vec4(n, quad_sky(quad, origin, n, receiver_voxel, jitter, pixel)));
   if (kShadeStage != kShadeShared) return;
   for (int l = 0; l < pc.light_count; ++l) {

@@ -34,9 +34,7 @@ layout(constant_id = 2) const uint kFieldView = kDebugNone;
 void main() {
   ivec2 pixel;
   if (kShadeStage == kShadeFill) {
-    uint index = gl_WorkGroupID.x * 64u + gl_LocalInvocationIndex;
-    if (index >= fill_count) return;
-    pixel = ivec2(fill_pixels[index] & 0xffffu, fill_pixels[index] >> 16u);
+    if (!listed_for_this_pass(pixel)) return;
   } else {
     pixel = ivec2(gl_GlobalInvocationID.xy);
     if (any(greaterThanEqual(pixel, pc.image_size))) return;

@@ -54,6 +54,15 @@ void list_for_next_pass(ivec2 at) {
   fill_pixels[index] = uint(at.x) | uint(at.y) << 16u;
 }
 
+// In a pass over the list (dispatched by its groups, 8 x 8 each): what this
+// invocation takes; false past the list's end.
+bool listed_for_this_pass(out ivec2 at) {
+  uint index = gl_WorkGroupID.x * 64u + gl_LocalInvocationIndex;
+  if (index >= fill_count) return false;
+  at = ivec2(fill_pixels[index] & 0xffffu, fill_pixels[index] >> 16u);
+  return true;
+}
+
 ivec2 quad_grid() { return (pc.image_size + 1) / 2; }
 int quad_count() { return quad_grid().x * quad_grid().y; }
 

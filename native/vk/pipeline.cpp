@@ -1,7 +1,5 @@
 #include "vk/pipeline.h"
 
-#include <cstring>
-
 #include "vk/context.h"
 #include "vk/resources.h"
 
