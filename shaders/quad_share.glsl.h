@@ -20,7 +20,7 @@ float shared_visibility(ivec2 pixel, vec3 p, vec3 n, int light) {
     float value = light < 0 ? sample_normal.w : quad_lights[light * quad_count() + quad.x + quad_grid().x * quad.y];
     if (sample_normal.w < 0.0 || value < 0.0) continue;
     vec4 at = imageLoad(g_position, quad_sample_pixel(quad));
-    if (dot(n, sample_normal.xyz) < 0.9 || abs(dot(p - at.xyz, sample_normal.xyz)) > same_surface_distance(at.xyz)) continue;
+    if (!on_sample_surface(p, n, at.xyz, sample_normal.xyz)) continue;
     vec2 bilinear = mix(1.0 - f, f, vec2(corner));
     float w = bilinear.x * bilinear.y + 1e-3;
     sum += w * value;

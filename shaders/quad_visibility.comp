@@ -42,7 +42,7 @@ void main() {
     if (!listed_for_this_pass(quad)) return;
     ivec2 pixel = quad_sample_pixel(quad);
     sample_surface(pixel, imageLoad(g_position, pixel).xyz, n, receiver_voxel, origin);
-    imageStore(quad_samples, quad, vec4(n, sky_visibility(origin, n, receiver_voxel, hash(uvec3(pixel, pc.sequence)), pixel)));
+    imageStore(quad_samples, quad, vec4(n, sky_visibility(origin, n, receiver_voxel, march_jitter(pixel), pixel)));
     return;
   }
   ivec2 quad = ivec2(gl_GlobalInvocationID.xy);
@@ -58,7 +58,7 @@ void main() {
   }
   vec3 p = position.xyz;
   sample_surface(pixel, p, n, receiver_voxel, origin);
-  float jitter = hash(uvec3(pixel, pc.sequence));
+  float jitter = march_jitter(pixel);
   imageStore(quad_samples, quad, vec4(n, quad_sky(quad, origin, n, receiver_voxel, jitter, pixel)));
   if (kShadeStage != kShadeShared) return;
   for (int l = 0; l < pc.light_count; ++l) {

@@ -10,6 +10,43 @@ float hash(uvec3 v) {
   return float(v.x) * (1.0 / 4294967296.0);
 }
 
+// Interleaved sampling (Keller and Heidrich, 2001): the 16 pixels of each
+// 4x4 tile take 16 consecutive points of a low-discrepancy (Kronecker)
+// sequence, in dither-matrix order (neighbours far apart in it), all turned
+// by one random offset (Cranley-Patterson) new every frame and tile. Each
+// pixel's samples are then as independent from frame to frame as random
+// ones (its mean converges to the true one), while a small neighbourhood's
+// in one frame spread evenly: the temporal resolve's clip and filter, which
+// read 3x3 pixels of one frame, see nearly their converged value, not a
+// few noisy samples. Each dimension (`salt`) has its own offset, so that
+// they are not correlated.
+uint tile_index(ivec2 pixel) {
+  const uint kDither[16] = uint[16](0u, 8u, 2u, 10u, 12u, 4u, 14u, 6u, 3u, 11u, 1u, 9u, 15u, 7u, 13u, 5u);
+  return kDither[(pixel.x & 3) + 4 * (pixel.y & 3)];
+}
+uint pcg(uint v) {  // (Jarzynski and Olano, 2020: nested, a hash of several integers)
+  uint state = v * 747796405u + 2891336453u;
+  uint word = ((state >> ((state >> 28u) + 4u)) ^ state) * 277803737u;
+  return (word >> 22u) ^ word;
+}
+float frame_offset(ivec2 pixel, uint salt) {
+  uvec2 tile = uvec2(pixel >> 2);
+  return float(pcg(tile.x + pcg(tile.y + pcg(pc.sequence * 16u + salt)))) * (1.0 / 4294967296.0);
+}
+
+// The pixel's golden-ratio (1D) and R2 (2D) points; index: its place among
+// the tile's points this frame (tile_index, or more per pixel).
+float golden_point(ivec2 pixel, uint index, uint salt) {
+  return fract(frame_offset(pixel, salt) + float(index * 2654435769u) * (1.0 / 4294967296.0));
+}
+vec2 r2_point(ivec2 pixel, uint index, uint salt) {
+  vec2 offset = vec2(frame_offset(pixel, salt), frame_offset(pixel, salt + 1u));
+  return fract(offset + vec2(uvec2(index * 3242174889u, index * 2447445413u)) * (1.0 / 4294967296.0));
+}
+
+// This frame's jitter of a pixel's march start (0 to 1).
+float march_jitter(ivec2 pixel) { return golden_point(pixel, tile_index(pixel), 0u); }
+
 // Two unit vectors that make an orthonormal frame with the unit vector n.
 void tangent_frame(vec3 n, out vec3 t, out vec3 b) {
   t = normalize(abs(n.z) < 0.9 ? cross(n, vec3(0.0, 0.0, 1.0)) : cross(n, vec3(1.0, 0.0, 0.0)));
@@ -33,8 +70,8 @@ vec3 disk_direction(vec3 dir, float tan_radius, vec2 start, uint index) {
 vec3 sky_direction(vec3 n, ivec2 pixel, uint k) {
   vec3 t, b;
   tangent_frame(n, t, b);
-  float u1 = hash(uvec3(pixel, pc.sequence * 4u + 2u * k + 1u));
-  float u2 = hash(uvec3(pixel.yx, pc.sequence * 4u + 2u * k + 2u));
+  vec2 u = r2_point(pixel, 2u * tile_index(pixel) + k, 1u);
+  float u1 = u.x, u2 = u.y;
   float r = sqrt(u1), phi = 6.2831853 * u2;
   return normalize(t * (r * cos(phi)) + b * (r * sin(phi)) + n * sqrt(max(1.0 - u1, 0.0)));
 }

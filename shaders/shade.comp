@@ -55,7 +55,7 @@ void main() {
     bool in_sdf = receiver_voxel > 0.0;
     depth = dot(p - frame.camera_position.xyz, frame.camera_forward.xyz);
     float lit = 0.0, unshadowed = 0.0;
-    float jitter = hash(uvec3(pixel, pc.sequence));
+    float jitter = march_jitter(pixel);
     // The march follows the ray from the shading point itself (an offset along
     // the normal would move every shadow edge inward by offset * tan(angle)).
     // On a surface that is in the SDF it starts pc.receiver_clearance voxels along the ray, so

@@ -87,11 +87,7 @@ vec3 facing_normal(ivec2 pixel, vec3 p) {
 // caster's march off its own surface (see shade.comp's main).
 vec3 march_origin(vec3 p, vec3 n, float receiver_voxel) { return p + n * (pc.caster_offset * receiver_voxel); }
 
-// How far off a sample's tangent plane a point may lie and still be on its
-// surface: a thousandth of its distance to the camera's plane.
-float same_surface_distance(vec3 p) {
-  return 1e-3 * abs(dot(p - frame.camera_position.xyz, frame.camera_forward.xyz)) + 1e-6;
-}
+#include "same_surface.glsl.h"
 
 // A light as a point p (on a surface) sees it, and the march towards it
 // from origin (p's march start).

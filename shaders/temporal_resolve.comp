@@ -5,6 +5,7 @@
 // accumulated before the change (history) are carried into the new
 // accumulation where they still show the same surface, so that a frame of
 // playback is not a single noisy sample.
+// - The new sample is filtered over its surface first (filtered_sample).
 // - Reprojection: the G-buffer's motion says where each pixel's surface point
 //   was on screen in the last frame; history is read there, bilinearly.
 // - Disocclusion: history whose depths there (the range its samples saw),
@@ -40,6 +41,9 @@ layout(std430, binding = 7) readonly buffer Lights { GpuLight lights[]; };
 // The resolved accumulation (the renderer takes it as accum_* from here on).
 layout(binding = 8, rgba32f) uniform writeonly image2D resolved_color;
 layout(binding = 9, rgba32f) uniform writeonly image2D resolved_passes;
+layout(binding = 10, rgba32f) uniform readonly image2D g_normal;
+layout(binding = 11, rgba32f) uniform readonly image2D g_albedo;
+#include "same_surface.glsl.h"
 
 vec3 to_ycocg(vec3 c) {
   return vec3(0.25 * c.r + 0.5 * c.g + 0.25 * c.b, 0.5 * c.r - 0.5 * c.b, -0.25 * c.r + 0.5 * c.g - 0.25 * c.b);
@@ -103,6 +107,43 @@ bool near_depth(ivec2 q, float depth) {
   return false;
 }
 
+// This frame's sample at `pixel` (a surface point p) with its noise
+// filtered: the light (colour over albedo) of the pixel and of its
+// neighbours one and two pixels out along the axes (weights 4, 2, 1; two
+// out reaches the next 2x2 quad, whose world light is a sample of its own),
+// times the pixel's albedo. Only neighbours on the same surface count, and
+// the less the more their sun visibility (the Shadow pass) differs, so that
+// a shadow's edge stays where it is. Where history stands for few samples (a
+// moved shadow, a disocclusion), the one jittered sample would carry its
+// marches' noise into the frame shown, and from frame to frame; the
+// interleaved random numbers (sdf_march.glsl.h) give neighbours samples
+// that complement each other.
+const float kShadowEdge = 0.1;  // (the Shadow pass difference that divides a neighbour's weight by e)
+vec3 filtered_sample(ivec2 pixel, vec3 p, vec3 current) {
+  vec3 albedo = imageLoad(g_albedo, pixel).rgb;
+  if (any(lessThan(albedo, vec3(1e-3)))) return current;  // (no light to tell from the colour)
+  vec3 n = imageLoad(g_normal, pixel).xyz;
+  float shadow = imageLoad(accum_passes, pixel).y;
+  const ivec2 kTaps[9] = ivec2[9](ivec2(0, 0), ivec2(1, 0), ivec2(-1, 0), ivec2(0, 1), ivec2(0, -1), ivec2(2, 0),
+                                  ivec2(-2, 0), ivec2(0, 2), ivec2(0, -2));
+  vec3 light = vec3(0.0);
+  float weights = 0.0;
+  for (int k = 0; k < 9; ++k) {
+    ivec2 q = pixel + kTaps[k];
+    if (any(lessThan(q, ivec2(0))) || any(greaterThanEqual(q, pc.image_size))) continue;
+    vec4 at = imageLoad(g_position, q);
+    vec3 a = imageLoad(g_albedo, q).rgb;
+    if (at.w <= 0.0 || any(lessThan(a, vec3(1e-3)))) continue;
+    vec3 normal = imageLoad(g_normal, q).xyz;
+    if (!on_sample_surface(at.xyz, dot(normal, n) < 0.0 ? -normal : normal, p, n)) continue;
+    float edge = (imageLoad(accum_passes, q).y - shadow) / kShadowEdge;
+    float w = (k == 0 ? 4.0 : (k < 5 ? 2.0 : 1.0)) * exp(-edge * edge);
+    light += w * imageLoad(accum_color, q).rgb / a;
+    weights += w;
+  }
+  return light / weights * albedo;
+}
+
 void main() {
   ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
   if (any(greaterThanEqual(pixel, pc.image_size))) return;
@@ -110,9 +151,11 @@ void main() {
   vec4 passes = imageLoad(accum_passes, pixel);
   vec4 motion = imageLoad(g_motion, pixel);
   vec4 position = imageLoad(g_position, pixel);
-  imageStore(resolved_color, pixel, current);  // (where history cannot help: this sample alone)
-  imageStore(resolved_passes, pixel, passes);
   bool background = position.w <= 0.0;
+  if (!background && position.w < 0.5 * (kShadedSurface + kHoldoutSurface))
+    current.rgb = filtered_sample(pixel, position.xyz, current.rgb);
+  imageStore(resolved_color, pixel, current);  // (where history cannot help: this sample alone, filtered)
+  imageStore(resolved_passes, pixel, passes);
   vec3 on_ray = position.xyz;  // a point on this pixel's camera ray (the background's: on the near plane)
   if (background) {
     // The world behind everything moves with the camera alone: where this

@@ -11,7 +11,7 @@ constexpr VkDescriptorType kBuffer = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
 
 TemporalPass::TemporalPass(const vk::Context& context)
     : pipeline_(context, RTSDF_SPIRV(spirv_temporal_resolve_comp),
-                {kImage, kImage, kImage, kImage, kImage, kImage, kBuffer, kBuffer, kImage, kImage},
+                {kImage, kImage, kImage, kImage, kImage, kImage, kBuffer, kBuffer, kImage, kImage, kImage, kImage},
                 uint32_t(sizeof(gpu::TemporalPush))) {}
 
 void TemporalPass::record(VkCommandBuffer cmd, const GBufferPass& gbuffer, const TemporalImages& images,
@@ -22,7 +22,8 @@ void TemporalPass::record(VkCommandBuffer cmd, const GBufferPass& gbuffer, const
             vk::Resource::storage_image(images.sample_color), vk::Resource::storage_image(images.sample_passes),
             vk::Resource::storage_image(images.history_color), vk::Resource::storage_image(images.history_passes),
             vk::Resource::storage_buffer(frame), vk::Resource::storage_buffer(lights),
-            vk::Resource::storage_image(images.resolved_color), vk::Resource::storage_image(images.resolved_passes)});
+            vk::Resource::storage_image(images.resolved_color), vk::Resource::storage_image(images.resolved_passes),
+            vk::Resource::storage_image(gbuffer.normal()), vk::Resource::storage_image(gbuffer.albedo())});
   pipeline_.push_constants(cmd, push);
   vkCmdDispatch(cmd, vk::group_count(push.image_size.x, 8), vk::group_count(push.image_size.y, 8), 1);
 }
