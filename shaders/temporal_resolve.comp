@@ -16,8 +16,9 @@
 //   mean +- `clip` standard deviations in YCoCg (Salvi's variance clipping),
 //   so that what changed (a moved shadow, a lit face) cannot linger.
 // - Moved shadows: a moving shadow is not a moving surface. Where the path
-//   to a light passes the box of the casters that moved, history stands for
-//   at most moved_shadow_samples samples, however still the receiver, and is
+//   to a light passes the box of the casters that moved, and this frame's
+//   Shadow pass (filtered) is not history's, history stands for at most
+//   moved_shadow_samples samples, however still the receiver, and is
 //   clipped tighter (moved_shadow_clip): a reactive mask for the shadow.
 // - Settled pixels: under unchanged lights and world, full history that stays
 //   where it was, away from what moved, keeps its converged value; the new
@@ -73,6 +74,10 @@ bool light_path_crosses_change(vec3 p, int l) {
 // this share of the changed box's size (its contact shadow, see main).
 const float kContactReach = 0.25;
 
+// How far this frame's Shadow pass may lie from history's where a moved
+// caster's shadow may have moved, and history still count as unmoved.
+const float kSameShadow = 0.02;
+
 // Whether p is within `reach` times the changed box's own size of it (at 1:
 // the sky it sees may be what moved).
 bool near_change(vec3 p, float reach) {
@@ -119,15 +124,14 @@ bool near_depth(ivec2 q, float depth) {
 // interleaved random numbers (sdf_march.glsl.h) give neighbours samples
 // that complement each other.
 const float kShadowEdge = 0.1;  // (the Shadow pass difference that divides a neighbour's weight by e)
-vec3 filtered_sample(ivec2 pixel, vec3 p, vec3 current) {
+vec3 filtered_sample(ivec2 pixel, vec3 p, vec3 current, inout float shadow) {
   vec3 albedo = imageLoad(g_albedo, pixel).rgb;
   if (any(lessThan(albedo, vec3(1e-3)))) return current;  // (no light to tell from the colour)
   vec3 n = imageLoad(g_normal, pixel).xyz;
-  float shadow = imageLoad(accum_passes, pixel).y;
   const ivec2 kTaps[9] = ivec2[9](ivec2(0, 0), ivec2(1, 0), ivec2(-1, 0), ivec2(0, 1), ivec2(0, -1), ivec2(2, 0),
                                   ivec2(-2, 0), ivec2(0, 2), ivec2(0, -2));
   vec3 light = vec3(0.0);
-  float weights = 0.0;
+  float shadows = 0.0, weights = 0.0;
   for (int k = 0; k < 9; ++k) {
     ivec2 q = pixel + kTaps[k];
     if (any(lessThan(q, ivec2(0))) || any(greaterThanEqual(q, pc.image_size))) continue;
@@ -136,11 +140,13 @@ vec3 filtered_sample(ivec2 pixel, vec3 p, vec3 current) {
     if (at.w <= 0.0 || any(lessThan(a, vec3(1e-3)))) continue;
     vec3 normal = imageLoad(g_normal, q).xyz;
     if (!on_sample_surface(at.xyz, dot(normal, n) < 0.0 ? -normal : normal, p, n)) continue;
-    float edge = (imageLoad(accum_passes, q).y - shadow) / kShadowEdge;
+    float neighbour_shadow = imageLoad(accum_passes, q).y, edge = (neighbour_shadow - shadow) / kShadowEdge;
     float w = (k == 0 ? 4.0 : (k < 5 ? 2.0 : 1.0)) * exp(-edge * edge);
     light += w * imageLoad(accum_color, q).rgb / a;
+    shadows += w * neighbour_shadow;
     weights += w;
   }
+  shadow = shadows / weights;
   return light / weights * albedo;
 }
 
@@ -152,8 +158,9 @@ void main() {
   vec4 motion = imageLoad(g_motion, pixel);
   vec4 position = imageLoad(g_position, pixel);
   bool background = position.w <= 0.0;
+  float shadow = passes.y;  // (filtered with the colour)
   if (!background && position.w < 0.5 * (kShadedSurface + kHoldoutSurface))
-    current.rgb = filtered_sample(pixel, position.xyz, current.rgb);
+    current.rgb = filtered_sample(pixel, position.xyz, current.rgb, shadow);
   imageStore(resolved_color, pixel, current);  // (where history cannot help: this sample alone, filtered)
   imageStore(resolved_passes, pixel, passes);
   vec3 on_ray = position.xyz;  // a point on this pixel's camera ray (the background's: on the near plane)
@@ -232,6 +239,11 @@ void main() {
   bool shadow_moved = false;
   for (int l = 0; l < pc.light_count && !background; ++l)
     if (light_path_crosses_change(position.xyz, l)) shadow_moved = true;
+  // Whether it did: this frame's sun visibility (filtered) against history's.
+  // The box of what moved is a bound: most pixels whose light paths cross it
+  // keep their shadow, and taking half of each frame's new sample there
+  // made them shimmer.
+  if (shadow_moved && abs(shadow - history_shadow) < kSameShadow) shadow_moved = false;
   float clip = shadow_moved ? pc.moved_shadow_clip : pc.clip;
   vec3 lo = mean - clip * sigma, hi = mean + clip * sigma;
   // Clip towards the mean (not per channel), keeping history's hue where it can.

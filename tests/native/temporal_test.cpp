@@ -441,6 +441,41 @@ TEST_F(TemporalTest, TheBackgroundSettlesBehindAStillCamera) {
   EXPECT_EQ(unsettled, 0);
 }
 
+// The moved caster's box is a bound on where its shadow may have moved: a
+// pixel whose paths to the light cross it, but whose shadow this frame is
+// history's (within kSameShadow), keeps its history, or the lit ground
+// around a moving object took half of every frame's new sample and
+// shimmered. The cube moves a little along x under the wide sun: the lit
+// ground (lit in both poses) keeps its samples; only the shadow's ends along x move.
+TEST_F(TemporalTest, AShadowThatDidNotMoveKeepsItsHistory) {
+  GpuScene scene(context(), cube_over_ground());
+  Renderer renderer(context());
+  RenderSettings settings = playback_settings();
+  settings.samples = 16;
+  renderer.begin(scene, top_view(), {wide_sun()}, glm::vec3(0.05f), kSize, kSize, settings, true);
+  for (int frame = 0; frame < settings.samples; ++frame) renderer.add_frame();
+  const std::vector<float> before = renderer.read().shadow;
+  move_cube(scene, -0.5f + 0.02f);
+  renderer.begin(scene, top_view(), {wide_sun()}, glm::vec3(0.05f), kSize, kSize, settings, true);
+  renderer.add_frame();
+  const RenderOutput played = renderer.read();
+  int lit = 0, restarted = 0, shadow_ends = 0;
+  for (size_t i = 0; i < played.shadow.size(); ++i) {
+    if (played.depth[i] < 9.5f) continue;  // (the ground only)
+    const bool moved = std::abs(played.shadow[i] - before[i]) > 0.02f;
+    if (before[i] > 0.999f && !moved) {
+      ++lit;
+      if (played.samples[i] <= 2.0f) ++restarted;
+    }
+    if (moved && played.samples[i] <= 2.0f) ++shadow_ends;
+  }
+  std::printf("lit ground kept lit: %d pixels, %d of them restarted (history counted as one sample); pixels whose "
+              "shadow moved, restarted: %d\n", lit, restarted, shadow_ends);
+  ASSERT_GT(lit, 1000);
+  EXPECT_LT(restarted, lit / 50);
+  EXPECT_GT(shadow_ends, 0) << "where the shadow did move, history still restarts";
+}
+
 // The noise of images of the floating cube against a converged one (256
 // frames, without temporal reuse): root mean square of the red channel's
 // difference over the pixels `pick` chooses, per pixel and of the means of
