@@ -113,10 +113,10 @@ bool near_depth(ivec2 q, float depth) {
 }
 
 // This frame's sample at `pixel` (a surface point p) with its noise
-// filtered: the light (colour over albedo) of the pixel and of its
-// neighbours one and two pixels out along the axes (weights 4, 2, 1; two
-// out reaches the next 2x2 quad, whose world light is a sample of its own),
-// times the pixel's albedo. Only neighbours on the same surface count, and
+// filtered: the light (colour over albedo) of the pixel and of the four
+// pixels two out along the axes (weights 2 and 1: two out lies in the next
+// 2x2 quad, whose world light is a sample of its own; the pixel next door
+// shares much of this one's), times the pixel's albedo. Only neighbours on the same surface count, and
 // the less the more their sun visibility (the Shadow pass) differs, so that
 // a shadow's edge stays where it is. Where history stands for few samples (a
 // moved shadow, a disocclusion), the one jittered sample would carry its
@@ -128,11 +128,10 @@ vec3 filtered_sample(ivec2 pixel, vec3 p, vec3 current, inout float shadow) {
   vec3 albedo = imageLoad(g_albedo, pixel).rgb;
   if (any(lessThan(albedo, vec3(1e-3)))) return current;  // (no light to tell from the colour)
   vec3 n = imageLoad(g_normal, pixel).xyz;
-  const ivec2 kTaps[9] = ivec2[9](ivec2(0, 0), ivec2(1, 0), ivec2(-1, 0), ivec2(0, 1), ivec2(0, -1), ivec2(2, 0),
-                                  ivec2(-2, 0), ivec2(0, 2), ivec2(0, -2));
+  const ivec2 kTaps[5] = ivec2[5](ivec2(0, 0), ivec2(2, 0), ivec2(-2, 0), ivec2(0, 2), ivec2(0, -2));
   vec3 light = vec3(0.0);
   float shadows = 0.0, weights = 0.0;
-  for (int k = 0; k < 9; ++k) {
+  for (int k = 0; k < 5; ++k) {
     ivec2 q = pixel + kTaps[k];
     if (any(lessThan(q, ivec2(0))) || any(greaterThanEqual(q, pc.image_size))) continue;
     vec4 at = imageLoad(g_position, q);
@@ -141,7 +140,7 @@ vec3 filtered_sample(ivec2 pixel, vec3 p, vec3 current, inout float shadow) {
     vec3 normal = imageLoad(g_normal, q).xyz;
     if (!on_sample_surface(at.xyz, dot(normal, n) < 0.0 ? -normal : normal, p, n)) continue;
     float neighbour_shadow = imageLoad(accum_passes, q).y, edge = (neighbour_shadow - shadow) / kShadowEdge;
-    float w = (k == 0 ? 4.0 : (k < 5 ? 2.0 : 1.0)) * exp(-edge * edge);
+    float w = (k == 0 ? 2.0 : 1.0) * exp(-edge * edge);
     light += w * imageLoad(accum_color, q).rgb / a;
     shadows += w * neighbour_shadow;
     weights += w;
