@@ -17,8 +17,8 @@ float hash(uvec3 v) {
 // pixel's samples are then as independent from frame to frame as random
 // ones (its mean converges to the true one), while a small neighbourhood's
 // in one frame spread evenly: the temporal resolve's clip and filter, which
-// read 3x3 pixels of one frame, see nearly their converged value, not a
-// few noisy samples. Each dimension (`salt`) has its own offset, so that
+// read a few pixels around each of one frame, see nearly their converged
+// value, not a few noisy samples. Each dimension (`salt`) has its own offset, so that
 // they are not correlated.
 uint tile_index(ivec2 pixel) {
   const uint kDither[16] = uint[16](0u, 8u, 2u, 10u, 12u, 4u, 14u, 6u, 3u, 11u, 1u, 9u, 15u, 7u, 13u, 5u);

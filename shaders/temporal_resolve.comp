@@ -116,9 +116,9 @@ bool near_depth(ivec2 q, float depth) {
 // filtered: the light (colour over albedo) of the pixel and of the four
 // pixels two out along the axes (weights 2 and 1: two out lies in the next
 // 2x2 quad, whose world light is a sample of its own; the pixel next door
-// shares much of this one's), times the pixel's albedo. Only neighbours on the same surface count, and
-// the less the more their sun visibility (the Shadow pass) differs, so that
-// a shadow's edge stays where it is. Where history stands for few samples (a
+// shares much of this one's), times the pixel's albedo. Only neighbours on
+// the same surface count, and the less the more their sun visibility (the
+// Shadow pass) differs, so that a shadow's edge stays where it is. Where history stands for few samples (a
 // moved shadow, a disocclusion), the one jittered sample would carry its
 // marches' noise into the frame shown, and from frame to frame; the
 // interleaved random numbers (sdf_march.glsl.h) give neighbours samples
