@@ -156,12 +156,10 @@ void main() {
   vec4 passes = imageLoad(accum_passes, pixel);
   vec4 motion = imageLoad(g_motion, pixel);
   vec4 position = imageLoad(g_position, pixel);
-  bool background = position.w <= 0.0;
-  float shadow = passes.y;  // (filtered with the colour)
-  if (!background && position.w < 0.5 * (kShadedSurface + kHoldoutSurface))
-    current.rgb = filtered_sample(pixel, position.xyz, current.rgb, shadow);
-  imageStore(resolved_color, pixel, current);  // (where history cannot help: this sample alone, filtered)
+  imageStore(resolved_color, pixel, current);  // (where history cannot help: this sample alone)
   imageStore(resolved_passes, pixel, passes);
+  bool background = position.w <= 0.0;
+  bool surface = !background && position.w < 0.5 * (kShadedSurface + kHoldoutSurface);
   vec3 on_ray = position.xyz;  // a point on this pixel's camera ray (the background's: on the near plane)
   if (background) {
     // The world behind everything moves with the camera alone: where this
@@ -178,16 +176,16 @@ void main() {
     on_ray = near_point.xyz / near_point.w;
     motion = vec4(before.xy / before.w - ndc, kNothingHitDepth, 1.0);
   }
-  if (motion.w <= 0.0) return;  // (behind the last camera)
 
-  // Where the surface point was: pixel centre + motion (in pixels), read bilinearly.
+  // Where the surface point was: pixel centre + motion (in pixels), read
+  // bilinearly (nothing where it was behind the last camera).
   vec2 at = vec2(pixel) + 0.5 + motion.xy * 0.5 * vec2(pc.image_size) - 0.5;
   ivec2 base = ivec2(floor(at));
   vec2 f = at - vec2(base);
   vec4 history = vec4(0.0);
   float history_shadow = 0.0, history_samples = 1e30, full_samples = 1e30, weights = 0.0;
   float history_nearest = kNothingHitDepth, history_farthest = 0.0;
-  for (int k = 0; k < 4; ++k) {
+  for (int k = 0; k < 4 && motion.w > 0.0; ++k) {
     ivec2 corner = base + ivec2(k & 1, k >> 1);
     if (any(lessThan(corner, ivec2(0))) || any(greaterThanEqual(corner, pc.image_size))) continue;
     vec4 before = imageLoad(history_passes, corner);
@@ -206,9 +204,9 @@ void main() {
     history_farthest = max(history_farthest, before.w);
     weights += w;
   }
-  if (weights < 1e-3) return;  // disoccluded
-  history /= weights;
-  history_shadow /= weights;
+  bool disoccluded = weights < 1e-3;
+  history /= max(weights, 1e-3);
+  history_shadow /= max(weights, 1e-3);
 
   // A silhouette's history holds the surfaces in front as well (its nearest
   // depth). Where that front surface was what moved, this pixel's history
@@ -216,13 +214,48 @@ void main() {
   // (The same for the background: where an object moved off it, history
   // near its old outline still holds it.)
   bool front_moved = false;
-  if (history_nearest < kNothingHitDepth) {
+  if (!disoccluded && history_nearest < kNothingHitDepth) {
     vec3 camera = frame.camera_position.xyz, forward = frame.camera_forward.xyz;
     vec3 ray = frame.camera_position.w > 0.5 ? forward : normalize(on_ray - camera);
     float depth = background ? kNothingHitDepth : dot(on_ray - camera, forward);
     vec3 history_front = on_ray + ray * ((history_nearest - dot(on_ray - camera, forward)) / max(dot(ray, forward), 1e-3));
     front_moved = history_nearest < depth * (1.0 - pc.depth_tolerance) && near_change(history_front, 1.0);
   }
+  bool shadow_moved = false;  // (it may have: the paths to a light cross the box of what moved)
+  for (int l = 0; l < pc.light_count && !background && !disoccluded; ++l)
+    if (light_path_crosses_change(position.xyz, l)) shadow_moved = true;
+  // Still: under the same lights and world, full history that stays on
+  // screen where it was, with no moved object in front of it before (and,
+  // below, out of any moved shadow). A silhouette's new sample may see a
+  // surface its history never did (the jitter goes on to offsets the still
+  // frames did not take); away from what moved, that is the jitter, not
+  // motion, so its full history counts here.
+  bool still = pc.same_lighting == 1u && min(full_samples, float(pc.history_samples)) >= float(pc.history_samples) &&
+               !front_moved && all(lessThan(abs(at - vec2(pixel)), vec2(1e-3)));
+  // Settled: still and away from what moved (whose sky it may share): the
+  // converged still image, which a new jittered sample would only make
+  // shimmer from frame to frame (what the still accumulation stops doing
+  // after its samples too).
+  bool away = background || !near_change(position.xyz, 1.0);
+
+  // This frame's sample and Shadow pass filtered (filtered_sample), but not
+  // for a pixel settled whatever its shadow, most of a playback frame (one
+  // call: lavapipe runs a call site's code in every lane of a group that
+  // reaches it).
+  float shadow = passes.y;
+  if (surface && (disoccluded || shadow_moved || !still || !away))
+    current.rgb = filtered_sample(pixel, position.xyz, current.rgb, shadow);
+  if (disoccluded) {
+    imageStore(resolved_color, pixel, current);
+    return;
+  }
+  // Whether the shadow did move: this frame's sun visibility (filtered)
+  // against history's. The box of what moved is a bound: most pixels whose
+  // light paths cross it keep their shadow, and taking half of each frame's
+  // new sample there made them shimmer.
+  if (shadow_moved && abs(shadow - history_shadow) < kSameShadow) shadow_moved = false;
+  still = still && !shadow_moved;
+  bool settled = still && away;
 
   // The neighbourhood's mean and spread in YCoCg (this frame's samples, same coverage).
   vec3 mean = vec3(0.0), square = vec3(0.0);
@@ -235,14 +268,6 @@ void main() {
     }
   mean /= count;
   vec3 sigma = sqrt(max(square / count - mean * mean, 0.0));
-  bool shadow_moved = false;
-  for (int l = 0; l < pc.light_count && !background; ++l)
-    if (light_path_crosses_change(position.xyz, l)) shadow_moved = true;
-  // Whether it did: this frame's sun visibility (filtered) against history's.
-  // The box of what moved is a bound: most pixels whose light paths cross it
-  // keep their shadow, and taking half of each frame's new sample there
-  // made them shimmer.
-  if (shadow_moved && abs(shadow - history_shadow) < kSameShadow) shadow_moved = false;
   float clip = shadow_moved ? pc.moved_shadow_clip : pc.clip;
   vec3 lo = mean - clip * sigma, hi = mean + clip * sigma;
   // Clip towards the mean (not per channel), keeping history's hue where it can.
@@ -258,17 +283,6 @@ void main() {
   if (front_moved) samples = min(samples, kNearbyHistorySamples);
   if (shadow_moved) samples = min(samples, pc.moved_shadow_samples);
   float w = 1.0 / (samples + 1.0);  // this frame's sample's share
-  // Settled: under the same lights and world, a pixel whose full history
-  // stays on screen where it was, out of any moved shadow and away from
-  // what moved (whose sky it may share), is the converged still image; a new
-  // jittered sample would only make it shimmer from frame to frame (what the
-  // still accumulation stops doing after its samples too). A silhouette's
-  // new sample may see a surface its history never did (the jitter goes on
-  // to offsets the still frames did not take); away from what moved, that is
-  // the jitter, not motion, so its full history counts here.
-  bool still = pc.same_lighting == 1u && min(full_samples, float(pc.history_samples)) >= float(pc.history_samples) &&
-               !shadow_moved && !front_moved && all(lessThan(abs(at - vec2(pixel)), vec2(1e-3)));
-  bool settled = still && (background || !near_change(position.xyz, 1.0));
   if (settled) w = 0.0, clipped = history.rgb, shadow_history = history_shadow;
   // Still, but near what moved: only the sky it sees can change, and by a
   // share of it that grows slowly with the motion; the clip to this frame's
