@@ -128,11 +128,12 @@ vec3 filtered_sample(ivec2 pixel, vec3 p, vec3 current, inout float shadow) {
   vec3 albedo = imageLoad(g_albedo, pixel).rgb;
   if (any(lessThan(albedo, vec3(1e-3)))) return current;  // (no light to tell from the colour)
   vec3 n = imageLoad(g_normal, pixel).xyz;
-  const ivec2 kTaps[5] = ivec2[5](ivec2(0, 0), ivec2(2, 0), ivec2(-2, 0), ivec2(0, 2), ivec2(0, -2));
-  vec3 light = vec3(0.0);
-  float shadows = 0.0, weights = 0.0;
-  for (int k = 0; k < 5; ++k) {
-    ivec2 q = pixel + kTaps[k];
+  // The pixel itself (`current` and `shadow` are its own), then its neighbours.
+  vec3 light = 2.0 * current / albedo;
+  float shadows = 2.0 * shadow, weights = 2.0;
+  const ivec2 kNeighbours[4] = ivec2[4](ivec2(2, 0), ivec2(-2, 0), ivec2(0, 2), ivec2(0, -2));
+  for (int k = 0; k < 4; ++k) {
+    ivec2 q = pixel + kNeighbours[k];
     if (any(lessThan(q, ivec2(0))) || any(greaterThanEqual(q, pc.image_size))) continue;
     vec4 at = imageLoad(g_position, q);
     vec3 a = imageLoad(g_albedo, q).rgb;
@@ -140,7 +141,7 @@ vec3 filtered_sample(ivec2 pixel, vec3 p, vec3 current, inout float shadow) {
     vec3 normal = imageLoad(g_normal, q).xyz;
     if (!on_sample_surface(at.xyz, dot(normal, n) < 0.0 ? -normal : normal, p, n)) continue;
     float neighbour_shadow = imageLoad(accum_passes, q).y, edge = (neighbour_shadow - shadow) / kShadowEdge;
-    float w = (k == 0 ? 2.0 : 1.0) * exp(-edge * edge);
+    float w = exp(-edge * edge);
     light += w * imageLoad(accum_color, q).rgb / a;
     shadows += w * neighbour_shadow;
     weights += w;
