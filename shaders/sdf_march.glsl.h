@@ -274,6 +274,12 @@ float visibility(vec3 origin, vec3 dir, float t_min, float t_max, float tan_radi
     // samples that far apart moves the ratio by less than 1/6.
     float cone_step = tan_radius * t * (1.0 / 3.0);
     step = clamp(abs(h), 0.5 * epsilon, max(max_step, cone_step));
+    // The cap matters only where the cone may narrow: a step that keeps the
+    // clearance above the cone's radius (plus epsilon) all along, by the
+    // clearance's bound h - s at s further on, skips nothing that could count.
+    // Far from surfaces (the middle of a room, the open space around a
+    // model) the march then strides as plain sphere tracing does.
+    if (h > 0.0) step = max(step, (h - tan_radius * t - epsilon) / (1.0 + tan_radius));
     step = min(step, max(sample_.x, 0.5 * epsilon));  // (no further than the boxes of fields not yet entered)
     if (step > max_step) step = min(step, max(segment_end - t, max_step));  // (gathered fields only reach so far)
     t += step;
