@@ -133,7 +133,9 @@ vec2 span_in_fields(vec3 origin, vec3 inv_dir, float t_min, float t_max) {
 // it steps on without narrowing the cone, as a march clipped to one grid does.
 // escape: how far along the ray negative samples are skipped until the first
 // non-negative one: a receiver that is itself in the SDF may start inside its
-// own shell (thin pieces read as slabs a voxel thick on either side).
+// own shell (thin pieces read as slabs a voxel thick on either side). Only
+// while they rise (leaving a surface), and when classifying they leave the
+// result uncertain: at a corner they may be the other wall's.
 // own_normal (0: none): samples whose clearance is the distance to the
 // receiver's own tangent plane are not counted: near-tangent cones (the sky's)
 // would otherwise see the receiver itself.
@@ -164,6 +166,7 @@ float visibility(vec3 origin, vec3 dir, float t_min, float t_max, float tan_radi
   float previous_h = 0.0, step = 0.0;
   bool deep_inside = false, have_previous = false, jittered = false;
   bool escaping = escape > 0.0 && !unsigned_field;
+  float escape_h = -kFarAway;  // (the last sample escaped)
   // The axis's first passage through an occluder: where it entered, where it
   // left, and the voxel there (entry < 0: none yet; exit < 0: still inside).
   float entry = -1.0, exit = -1.0, crossing_voxel = 0.0;
@@ -223,7 +226,15 @@ float visibility(vec3 origin, vec3 dir, float t_min, float t_max, float tan_radi
       continue;
     }
     if (escaping) {
-      if (h < 0.0 && t < t_start + escape) {
+      // The receiver's own shell: h rises as the ray leaves its surface. A
+      // sample lower than the one before is another occluder the ray goes
+      // into (a wall meeting the receiver's wall at a corner): escaping
+      // through it let a seam of light through.
+      if (h < 0.0 && t < t_start + escape && h >= escape_h) {
+        escape_h = h;
+        // (within a voxel of the receiver the field cannot tell its own shell
+        // from a wall it meets: exact rays decide)
+        if (classify) uncertain = true;
         t += 0.5 * epsilon;
         continue;
       }
