@@ -503,13 +503,13 @@ TEST_F(RendererTest, NoSunInsideAClosedRoomWithThinWalls) {
 // march a voxel along the ray and escapes its own shell (thin pieces read as
 // slabs) by skipping negative samples for two more; at a corner those were
 // the other wall's, which the ray crossed in as much, and a seam of sunlight
-// ran up the corner (the interior sample's back wall, 0.09 of the unshadowed
-// sun; none in Cycles). With exact rays and without (the march alone), at
-// the presets' field resolution, where the walls are 2 voxels thick: 458
-// and 592 of 128x128 pixels were lit before (tried from Python). Thinner
-// than that, the field cannot tell: at 64 voxels (1.4 thick) about 500 still
-// are with exact rays (2,000 before); and at 128 the march alone lets 350
-// through (exact rays none, 99 before).
+// ran up the corner (beside the interior sample's window: 0.09 of the
+// unshadowed sun; none in Cycles). Here, at the presets' field resolution
+// (walls 2 voxels thick), 60 pixels were lit by the march alone and 48 with
+// exact rays. Thinner walls are beyond the field: from Python, at 64 voxels
+// (1.4 thick) about 500 of 128x128 pixels still are with exact rays (2,000
+// before), and at 128 voxels the march alone lets 350 through (358 before;
+// exact rays none, 99 before).
 TEST_F(RendererTest, NoSunThroughTheWallAtACornerOfAClosedRoom) {
   Light sun;
   sun.type = LightType::Sun;
