@@ -499,17 +499,17 @@ TEST_F(RendererTest, NoSunInsideAClosedRoomWithThinWalls) {
 }
 
 // Nor at a corner: the inner face of a wall that faces the sun, where it
-// meets the wall the sun's rays must cross. A receiver in the SDF starts its
-// march a voxel along the ray and escapes its own shell (thin pieces read as
+// meets the wall the sun's rays must cross. A receiver in the SDF started its
+// march a voxel along the ray and escaped its own shell (thin pieces read as
 // slabs) by skipping negative samples for two more; at a corner those were
 // the other wall's, which the ray crossed in as much, and a seam of sunlight
 // ran up the corner (beside the interior sample's window: 0.09 of the
 // unshadowed sun; none in Cycles). Here, at the presets' field resolution
 // (walls 2 voxels thick), 60 pixels were lit by the march alone and 48 with
-// exact rays. Thinner walls are beyond the field: from Python, at 64 voxels
-// (1.4 thick) about 500 of 128x128 pixels still are with exact rays (2,000
-// before), and at 128 voxels the march alone lets 350 through (358 before;
-// exact rays none, 99 before).
+// exact rays. Thinner walls are at the field's limit: from Python, at 64
+// voxels (1.4 thick) about 1,000 of 128x128 pixels still are by the march
+// alone (2,200 before), 1 with exact rays (2,000 before); at 128 voxels 64
+// by the march alone (358 before), none with exact rays (99 before).
 TEST_F(RendererTest, NoSunThroughTheWallAtACornerOfAClosedRoom) {
   Light sun;
   sun.type = LightType::Sun;
