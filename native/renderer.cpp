@@ -460,9 +460,13 @@ void Renderer::begin(GpuScene& scene, const Camera& camera, const std::vector<Li
   push_.max_march_steps = uint32_t(settings.shadow_max_steps);
   push_.shadow_epsilon = settings.shadow_epsilon;
   push_.max_step = settings.max_step;
-  // (half a voxel: the receiver's own shell is escaped beyond it, and a wall met at a corner within a
-  // whole voxel was never sampled: a seam of light ran up the corner)
+  // A light's march starts half a voxel out: the receiver's own shell is escaped beyond it, and a wall
+  // met at a corner within a whole voxel was never sampled (a seam of light ran up the corner). The
+  // sky's cones start a whole voxel out: they are wide and many run near the horizon, and nearer the
+  // receiver their first samples met its own shell (a moving character's ground speckled from frame
+  // to frame).
   push_.receiver_clearance = 0.5f;
+  push_.sky_receiver_clearance = 1.0f;
   push_.field_reach = settings.max_step * march_.largest_voxel();
   push_.caster_offset = 0.25f;
   push_.field_view = uint32_t(settings.field_view);

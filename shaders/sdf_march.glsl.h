@@ -363,13 +363,6 @@ bool enters_sky_blocker(vec3 p, vec3 dir) {
 // How far the sky's cones march (to the fields' far side).
 const float kSkyDistance = 1e10;
 
-// Voxels of the receiver's own field the sky's cones start along their axis:
-// a whole one, where a light's march starts at pc.receiver_clearance (half a
-// voxel, so that it meets a wall at a corner). The cones are wide and many
-// run near the horizon: nearer the receiver their first samples met its own
-// shell, and a moving character's ground speckled from frame to frame.
-const float kSkyReceiverClearance = 1.0;
-
 // Whether this frame's sky cones at a receiver (see sky_visibility) need no
 // march: each enters a sky blocker (0) or passes no field's box (1); `sky`
 // is then their share.
@@ -378,7 +371,7 @@ bool sky_without_march(vec3 origin, vec3 n, float receiver_voxel, ivec2 pixel, o
   for (uint k = 0u; k < 2u; ++k) {
     vec3 dir = sky_direction(n, pixel, k);
     if (enters_sky_blocker(origin, dir)) continue;
-    vec2 span = span_in_fields(origin, safe_inverse(dir), kSkyReceiverClearance * receiver_voxel, kSkyDistance);
+    vec2 span = span_in_fields(origin, safe_inverse(dir), pc.sky_receiver_clearance * receiver_voxel, kSkyDistance);
     if (span.x < span.y) return false;
     sum += 1.0;
   }
@@ -394,7 +387,7 @@ float sky_visibility(vec3 origin, vec3 n, float receiver_voxel, float jitter, iv
     vec3 dir = sky_direction(n, pixel, k);
     if (enters_sky_blocker(origin, dir)) continue;
     bool crossed_sheet;  // (never with axis_blocks)
-    sum += visibility(origin, dir, kSkyReceiverClearance * receiver_voxel, kSkyDistance, 0.35, jitter, 2.0 * receiver_voxel,
+    sum += visibility(origin, dir, pc.sky_receiver_clearance * receiver_voxel, kSkyDistance, 0.35, jitter, 2.0 * receiver_voxel,
                       in_sdf ? n : vec3(0.0), true, false, crossed_sheet);
   }
   return 0.5 * sum;

@@ -258,7 +258,7 @@ struct ShadePush {
   // Distances along the march are in voxels of the field nearest each sample.
   float shadow_epsilon;          // a sample this near a surface blocks the ray
   float max_step;                // the longest step, in voxels
-  float receiver_clearance;      // voxels of the receiver's own field the march starts along the ray
+  float receiver_clearance;      // voxels of the receiver's own field a light's march starts along the ray
   float field_reach;             // world: the longest step the march can take anywhere (max_step voxels of the coarsest field)
   float caster_offset;           // a caster's march origin off its surface along the normal (voxels of its field)
   float shadow_map_offset;       // the shadow-map lookup's offset off the surface (texels)
@@ -270,7 +270,7 @@ struct ShadePush {
   float map_filter_texels;       // filter radius (texels; 0: from a blocker search, as wide as the penumbra)
   uint field_view;               // kDebug*: a view of the fields in place of the image
   float field_view_height;       // the distance slice's world z
-  uint pad0;
+  float sky_receiver_clearance;  // ... and the sky's cones
   uint pad1;
 };
 
