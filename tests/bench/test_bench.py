@@ -57,6 +57,40 @@ class Figures(unittest.TestCase):
         self.assertAlmostEqual(bench.metrics.structural_similarity(a, b), structural_similarity(a, b, data_range=1.0),
                                places=9)
 
+    def test_static_pixels_leave_out_the_movers_way_out_of_the_view(self):
+        # A unit quad seen from 5 units away moves 3 units right, off the image, down and
+        # to the right: its path crosses pixels that neither Cycles image changes.
+        width, height = 64, 32
+        focal = 2.0
+        projection = [[focal * height / width, 0, 0, 0], [0, focal, 0, 0], [0, 0, -1, -0.2], [0, 0, -1, 0]]
+        world_to_view = [[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, -5], [0, 0, 0, 1]]
+        mesh = {"positions": np.array([0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0], np.float32)}
+
+        def pose(x, y):
+            matrix = np.eye(4, dtype=np.float32)
+            matrix[:3, 3] = (x, y, 0.0)
+            return {"width": width, "height": height, "meshes": [mesh],
+                    "camera": {"world_to_view": world_to_view, "projection": projection, "orthographic": False},
+                    "instances": [{"mesh": 0, "matrix": matrix}]}
+
+        data = {"before": pose(-1.5, 0.0), "after": pose(3.0, -4.0)}
+        refs = {"before_shadowed": np.zeros((height, width, 3), np.float32)}
+        refs["after_shadowed"] = refs["before_shadowed"].copy()
+        # Cycles sees the quad before the move only (after it, it is out of the view).
+        self.assertEqual(bench.mover_screen_box(data, 0), (10, 16, 22, 29))
+        self.assertIsNone(bench.mover_screen_box(data, bench.ANIMATION_STEPS))
+        refs["after_shadowed"][10:17, 22:30] = 1.0
+        # Half way, it is wholly below and right of those pixels.
+        middle = bench.mover_screen_box(data, bench.ANIMATION_STEPS // 2)
+        self.assertGreater(middle[0], 16)
+        self.assertGreater(middle[2], 29)
+        static = bench.static_pixels(refs, data, margin=0.0)
+        self.assertFalse(static[middle[0]:middle[1] + 1, middle[2]:middle[3] + 1].any())
+        self.assertFalse(static[10:17, 22:30].any())
+        self.assertTrue(static[:8, 30:].all())  # (above the path, right of the start: left alone)
+        # Without the path, the box around Cycles' changed pixels alone.
+        self.assertIsNone(bench.mover_screen_box({"before": data["before"], "after": data["before"]}, 4))
+
     def test_pareto_front(self):
         points = [(10.0, 0.5), (20.0, 0.2), (15.0, 0.6), (30.0, 0.1), (30.0, 0.3)]
         self.assertEqual(bench.pareto(points), [0, 1, 3])
