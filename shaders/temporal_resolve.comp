@@ -78,13 +78,25 @@ const float kContactReach = 0.25;
 // caster's shadow may have moved, and history still count as unmoved.
 const float kSameShadow = 0.02;
 
+// Whether p is within `distance` of the changed box.
+bool within_change(vec3 p, float distance) {
+  if (frame.changed_lo.w == 0.0) return false;
+  vec3 outside = max(max(frame.changed_lo.xyz - p, p - frame.changed_hi.xyz), 0.0);
+  return length(outside) <= distance;
+}
+
 // Whether p is within `reach` times the changed box's own size of it (at 1:
 // the sky it sees may be what moved).
 bool near_change(vec3 p, float reach) {
-  if (frame.changed_lo.w == 0.0) return false;
-  vec3 lo = frame.changed_lo.xyz, hi = frame.changed_hi.xyz;
-  vec3 outside = max(max(lo - p, p - hi), 0.0);
-  return length(outside) <= reach * length(hi - lo);
+  return within_change(p, reach * length(frame.changed_hi.xyz - frame.changed_lo.xyz));
+}
+
+// The world width of a pixel at p (from the projection's first row: the
+// view's x axis, scaled).
+float pixel_width_at(vec3 p) {
+  mat4 m = frame.steady_world_to_clip;
+  float scale = length(vec3(m[0][0], m[1][0], m[2][0]));
+  return 2.0 * abs((m * vec4(p, 1.0)).w) / (float(pc.image_size.x) * max(scale, 1e-20));
 }
 
 // Whether a history texel whose passes are `range` saw depth `depth`: within
@@ -220,7 +232,12 @@ void main() {
     vec3 ray = frame.camera_position.w > 0.5 ? forward : normalize(on_ray - camera);
     float depth = background ? kNothingHitDepth : dot(on_ray - camera, forward);
     vec3 history_front = on_ray + ray * ((history_nearest - dot(on_ray - camera, forward)) / max(dot(ray, forward), 1e-3));
-    front_moved = history_nearest < depth * (1.0 - pc.depth_tolerance) && near_change(history_front, 1.0);
+    // (that front surface was seen within the jitter's reach of this pixel's
+    // ray, read bilinearly: a moved object's lies in the box of what moved,
+    // give or take that many pixels; a whole box's size more took in the
+    // ground's far edge, and the horizon never settled)
+    front_moved = history_nearest < depth * (1.0 - pc.depth_tolerance) &&
+                  within_change(history_front, (pc.jitter_reach + 2.0) * pixel_width_at(history_front));
   }
   bool shadow_moved = false;  // (it may have: the paths to a light cross the box of what moved)
   for (int l = 0; l < pc.light_count && !background && !disoccluded; ++l)
