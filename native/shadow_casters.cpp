@@ -53,6 +53,35 @@ bool lights_in_front(const std::vector<Light>& lights, glm::vec3 n, float offset
   return true;
 }
 
+// Two unit vectors across the unit vector n.
+void across(glm::vec3 n, glm::vec3& t, glm::vec3& b) {
+  t = glm::normalize(std::abs(n.z) < 0.9f ? glm::cross(n, glm::vec3(0, 0, 1)) : glm::cross(n, glm::vec3(1, 0, 0)));
+  b = glm::cross(n, t);
+}
+
+// Whether another caster leaves the flat instance free to be only a
+// receiver, with its outer face the plane dot(x, outward) = offset: it lies
+// in front of that face (give or take `tolerance`), or it stands on it: it
+// reaches in front, and what sinks behind lies within the flat instance's
+// own extent across (a foot through a floor, a trunk in the ground). That
+// part is then hidden under the flat instance from every view in front of
+// it, and no path from a surface in front to a light in front passes there.
+// (Only geometry wholly behind, or behind beyond its edge, can be a receiver
+// there that it might shadow.)
+bool leaves_it_a_receiver(const MeshExtent& flat, const glm::mat4& flat_to_world, const MeshExtent& other,
+                          const glm::mat4& other_to_world, glm::vec3 outward, float offset, float tolerance) {
+  const glm::vec2 along = other.placed_extent(other_to_world, outward);
+  if (along.x - offset >= -tolerance) return true;
+  if (along.y - offset <= tolerance) return false;
+  glm::vec3 t, b;
+  across(outward, t, b);
+  for (glm::vec3 d : {t, b}) {
+    const glm::vec2 own = flat.placed_extent(flat_to_world, d), theirs = other.placed_extent(other_to_world, d);
+    if (theirs.x < own.x - tolerance || theirs.y > own.y + tolerance) return false;
+  }
+  return true;
+}
+
 }  // namespace
 
 std::vector<uint8_t> find_shadow_casters(const Scene& scene, const std::vector<Light>& lights) {
@@ -74,7 +103,7 @@ std::vector<uint8_t> find_shadow_casters(const Scene& scene, const std::vector<M
     const MeshExtent& extent = extents[instance.mesh];
     const Bounds box = extent.placed_bounds(instance.object_to_world);
     const float size = glm::length(box.extent());
-    const float tolerance = 1e-3f * size;  // objects resting on the ground may touch it or sink in a little
+    const float tolerance = 1e-3f * size;  // (rounding: objects resting on the ground may touch it)
     for (glm::vec3 n : candidate_normals(largest_normals[instance.mesh], instance.object_to_world)) {
       const glm::vec2 own = extent.placed_extent(instance.object_to_world, n);
       if (own.y - own.x > kFlatness * size) continue;
@@ -86,7 +115,8 @@ std::vector<uint8_t> find_shadow_casters(const Scene& scene, const std::vector<M
         for (size_t j = 0; j < count && others_in_front; ++j) {
           const Instance& other = scene.instances[j];
           if (j == i || !other.casts_shadow || extents[other.mesh].empty()) continue;  // the flags, not the result
-          others_in_front = extents[other.mesh].placed_extent(other.object_to_world, outward).x - offset >= -tolerance;
+          others_in_front = leaves_it_a_receiver(extent, instance.object_to_world, extents[other.mesh],
+                                                 other.object_to_world, outward, offset, tolerance);
         }
         if (others_in_front && lights_in_front(lights, outward, offset)) {
           casters[i] = 0;

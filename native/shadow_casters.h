@@ -15,11 +15,13 @@ namespace rtsdf {
 // light from any surface, 1 otherwise. An instance is left out when
 // - its `casts_shadow` is off (Blender's object visibility "Shadow"), or
 // - it is flat (a plane, a disc, a thin slab: thickness along some direction
-//   at most 1% of its size), and every other shadow caster and every light lie
-//   on the far side of its outer face. A segment from a surface to a light then
-//   stays in that half-space and cannot pass through it: a ground under
-//   objects lit from above is such a receiver, a wall between the sun and a
-//   room is not.
+//   at most 1% of its size), every light lies on the far side of its outer
+//   face, and so does every other shadow caster, or stands on that face (what
+//   sinks behind it lies within the flat instance's extent across: a foot
+//   through the floor is hidden under it). A segment from a surface to a
+//   light then stays in that half-space and cannot pass through it: a ground
+//   under objects lit from above is such a receiver, a wall between the sun
+//   and a room is not, nor a ground with something wholly under it.
 // Call scene.validate() first.
 std::vector<uint8_t> find_shadow_casters(const Scene& scene, const std::vector<Light>& lights);
 // The same with the scene's mesh extents at hand (mesh_extents(scene)).

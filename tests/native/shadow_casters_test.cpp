@@ -47,6 +47,19 @@ TEST(ShadowCasters, GroundUnderObjectsLitFromAboveIsOnlyAReceiver) {
             (std::vector<uint8_t>{0}));
 }
 
+// A caster that stands through the ground (a foot through the floor, motion
+// capture's limbs, a trunk set into terrain) leaves it a receiver: what sinks
+// behind lies under it, hidden from every view above. Sunk half its height,
+// the box used to put a 20 x 20 ground into the SDF.
+TEST(ShadowCasters, GroundWithACasterSunkThroughItIsOnlyAReceiver) {
+  Scene scene = box_on_ground(kGroundSheet);
+  scene.instances[1].object_to_world = glm::translate(glm::mat4(1.0f), glm::vec3(2, 3, -0.5f));
+  EXPECT_EQ(find_shadow_casters(scene, {sun_towards({0.3f, 0.2f, -1.0f})}), (std::vector<uint8_t>{0, 1}));
+  // Sunk beyond the ground's edge, its part below can be seen from the side: the ground stays.
+  scene.instances[1].object_to_world = glm::translate(glm::mat4(1.0f), glm::vec3(9.8f, 0, -0.5f));
+  EXPECT_EQ(find_shadow_casters(scene, {sun_towards({0.3f, 0.2f, -1.0f})}), (std::vector<uint8_t>{1, 1}));
+}
+
 TEST(ShadowCasters, GroundThatCanBlockALightStays) {
   const Scene scene = box_on_ground(kGroundSheet);
   // A sun below the horizon: the ground hides it from the box.
