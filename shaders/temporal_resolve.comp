@@ -26,7 +26,8 @@
 //   during playback. Such a pixel near what moved (only its sky can change)
 //   takes the new sample unclipped.
 // The accumulation's running mean then goes on from history's samples
-// (accum_passes.z), up to history_samples of them.
+// (accum_passes.z), up to history_samples of them (kStillHistory times that
+// for a still pixel).
 #include "shared.h"
 
 layout(local_size_x = 8, local_size_y = 8) in;
@@ -77,6 +78,12 @@ const float kContactReach = 0.25;
 // How far this frame's Shadow pass may lie from history's where a moved
 // caster's shadow may have moved, and history still count as unmoved.
 const float kSameShadow = 0.02;
+
+// The most samples a still pixel's history counts for, in history_samples:
+// near what moved it goes on taking a new sample each frame, whose weight
+// then falls as a still accumulation's would (its sky follows the motion
+// more slowly than a moved shadow, which is clipped apart).
+const float kStillHistory = 4.0;
 
 // Whether p is within `distance` of the changed box.
 bool within_change(vec3 p, float distance) {
@@ -297,7 +304,9 @@ void main() {
   float kept = scale > 1.0 ? 1.0 / scale : 1.0;
   float shadow_history = mix(passes.y, history_shadow, kept);
 
-  float samples = min(history_samples, float(pc.history_samples));
+  bool slow = still && !near_change(position.xyz, kContactReach);
+  float most = slow || settled ? kStillHistory * float(pc.history_samples) : float(pc.history_samples);
+  float samples = min(history_samples, most);
   if (front_moved) samples = min(samples, kNearbyHistorySamples);
   if (shadow_moved) samples = min(samples, pc.moved_shadow_samples);
   float w = 1.0 / (samples + 1.0);  // this frame's sample's share
@@ -308,11 +317,11 @@ void main() {
   // playback's flicker), so history goes on unclipped and the sky follows
   // through the new samples' weight. At contact (within a quarter of the
   // box's size) the sky changes fast: clipped as any other pixel.
-  else if (still && !near_change(position.xyz, kContactReach)) clipped = history.rgb, shadow_history = history_shadow;
+  else if (slow) clipped = history.rgb, shadow_history = history_shadow;
   imageStore(resolved_color, pixel, vec4(mix(clipped, current.rgb, w), current.a));
   // History's depths, moved as this surface point moved in depth since.
   float moved = background ? 0.0 : passes.x - motion.z;
   imageStore(resolved_passes, pixel, vec4(min(passes.x, history_nearest + moved), mix(shadow_history, passes.y, w),
-                                          settled ? float(pc.history_samples) : samples + 1.0,
+                                          settled ? max(samples, float(pc.history_samples)) : samples + 1.0,
                                           max(passes.w, history_farthest + moved)));
 }

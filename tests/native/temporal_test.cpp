@@ -339,7 +339,8 @@ TEST_F(TemporalTest, SettledPixelsDoNotShimmerDuringPlayback) {
 // unclipped and takes the new sample with its weight (1 / (history samples +
 // 1)), so that a frame moves its colour by about that share of a sample's
 // noise; clipped to this frame's one-sample neighbourhood, it took
-// much of that noise whole.
+// much of that noise whole. Its history's count grows with each such frame
+// (to kStillHistory times history_samples), as a still accumulation's.
 TEST_F(TemporalTest, AStillPixelNearWhatMovedTakesOnlyItsNewSamplesShare) {
   Light sun = wide_sun();
   GpuScene scene(context(), two_cubes(0.5f, -0.5f));
@@ -382,17 +383,26 @@ TEST_F(TemporalTest, AStillPixelNearWhatMovedTakesOnlyItsNewSamplesShare) {
 
   std::vector<float> previous = converged;
   double near_change = 0.0, moving_change = 0.0;
-  for (int step = 1; step <= 4; ++step) {
+  float most_samples = 0.0f;  // (of the still shadow's pixels, after the last step)
+  const int steps = 4;
+  for (int step = 1; step <= steps; ++step) {
     scene.set_transforms(two_cubes_at(-0.5f + 0.05f * float(step), 0.5f, -0.5f));
     renderer.begin(scene, top_view(), {sun}, sky, kSize, kSize, settings, true);
     renderer.add_frame();
-    const std::vector<float> shadow = brightness(renderer.read());
+    const RenderOutput out = renderer.read();
+    const std::vector<float> shadow = brightness(out);
     near_change = std::max(near_change, mean_change(shadow, previous, still_shadow));
     moving_change = std::max(moving_change, mean_change(shadow, previous, moving_shadow));
     previous = shadow;
+    most_samples = 0.0f;
+    for (size_t i : still_shadow) most_samples = std::max(most_samples, out.samples[i]);
   }
   std::printf("mean change between playback frames: still shadow near the moving cube %.5f (a sample's noise %.4f), "
-              "moving shadow %.4f\n", near_change, noise, moving_change);
+              "moving shadow %.4f; the still shadow's history after %d steps: up to %.0f samples\n", near_change, noise,
+              moving_change, steps, most_samples);
+  // Its count goes on from the still accumulation's, one a frame, so that each new sample weighs less (those
+  // further than the box's size from it are settled: they keep their still accumulation's count).
+  EXPECT_EQ(most_samples, float(settings.samples + steps));
   ASSERT_GT(noise, 0.01) << "one sample is noisy there";
   // (a frame's own sample shares the quads' samples and is far less noisy
   // than a fresh single frame: unclipped, the mean change was 0.0018 against
