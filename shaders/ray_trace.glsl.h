@@ -24,7 +24,7 @@ float box_entry(vec3 origin, vec3 inv_dir, vec4 lo, vec4 hi, float t_max) {
 // only asks whether there is one).
 void trace_mesh(uint root, vec3 origin, vec3 dir, bool mirrored, bool any_hit, inout float best_t, inout bool front,
                 inout uint best_triangle) {
-  vec3 inv_dir = 1.0 / dir;
+  vec3 inv_dir = safe_inverse(dir);
   uint stack[RTSDF_STACK];
   int top = 0;
   stack[top++] = root;
@@ -74,7 +74,14 @@ float trace_scene(vec3 origin, vec3 dir, float t_max, bool any_hit, out bool fro
   hit_triangle = 0u;
   hit_instance = 0u;
   float best_t = t_max;
-  vec3 inv_dir = 1.0 / dir;
+  // A scene with nothing to hit has a root box inside out (lo above hi). The
+  // slab test alone lets a ray parallel to an axis into such a box (its
+  // slabs along that axis span everything), and the traversal went on into
+  // placeholder buffers: on NVIDIA's driver it never ended.
+  if (any(greaterThan(top_nodes[0].lo.xyz, top_nodes[0].hi.xyz))) return best_t;
+  // (1 / dir with zeros made huge, not infinite: a zero times infinity is NaN,
+  // which drivers order differently in min and max)
+  vec3 inv_dir = safe_inverse(dir);
   uint stack[RTSDF_STACK];
   int top = 0;
   stack[top++] = 0u;

@@ -26,7 +26,8 @@ ShadePass::ShadePass(const vk::Context& context)
       no_shadow_tiles_(context, sizeof(gpu::ShadowTile), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
                        vk::Buffer::Access::DeviceOnly) {
   vk::make_general(context, {&no_shadow_atlas_});
-  // An empty box (lo above hi): every ray misses the top level at once.
+  // An empty box (lo above hi): trace_scene sees it and traces nothing
+  // (shaders/ray_trace.glsl.h; its instances and BVHs are never read).
   gpu::BvhNode empty{};
   empty.lo = glm::vec4(1.0f);
   empty.hi = glm::vec4(-1.0f);
