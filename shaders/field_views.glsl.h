@@ -67,7 +67,7 @@ vec3 march_steps_color(ivec2 pixel) {
   const int kMostSteps = 256;
   vec3 origin, dir;
   camera_ray(pixel, origin, dir);
-  int count = pc.field_instances == 0u ? 0 : gather_fields(origin, 1.0 / dir, 0.0, kFarAway, 0.0);
+  int count = pc.field_instances == 0u ? 0 : gather_fields(origin, safe_inverse(dir), 0.0, kFarAway, 0.0);
   if (count == 0) return vec3(0.05);  // (no field on the ray)
   count = count < 0 ? RTSDF_MAX_NEARBY_FIELDS : count;
   float t = 0.0;

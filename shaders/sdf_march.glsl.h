@@ -348,7 +348,7 @@ float light_visibility(vec3 origin, vec3 dir, float t_min, float t_max, float ta
 // Whether a ray from p along dir enters one of the flat receivers left out of
 // the SDF (a ground) ahead of p; p's own surface, which it leaves at once, does not count.
 bool enters_sky_blocker(vec3 p, vec3 dir) {
-  vec3 inv = 1.0 / dir;
+  vec3 inv = safe_inverse(dir);
   for (int i = 0; i < int(frame.ambient.w); ++i) {
     vec3 lo = frame.sky_blockers[2 * i].xyz, hi = frame.sky_blockers[2 * i + 1].xyz;
     vec3 pad = vec3(1e-4 * length(hi - lo));  // a plane's box has no thickness

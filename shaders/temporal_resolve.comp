@@ -46,6 +46,7 @@ layout(binding = 9, rgba32f) uniform writeonly image2D resolved_passes;
 layout(binding = 10, rgba32f) uniform readonly image2D g_normal;
 layout(binding = 11, rgba32f) uniform readonly image2D g_albedo;
 #include "same_surface.glsl.h"
+#include "ray_box.glsl.h"
 
 vec3 to_ycocg(vec3 c) {
   return vec3(0.25 * c.r + 0.5 * c.g + 0.25 * c.b, 0.5 * c.r - 0.5 * c.b, -0.25 * c.r + 0.5 * c.g - 0.25 * c.b);
@@ -64,7 +65,7 @@ bool light_path_crosses_change(vec3 p, int l) {
   vec3 centre = 0.5 * (frame.changed_lo.xyz + frame.changed_hi.xyz);
   float cone = sun ? light.direction.w * (distance(p, centre) + length(frame.changed_hi.xyz - centre))
                    : light.direction.w;
-  vec3 inv = 1.0 / to_light;
+  vec3 inv = safe_inverse(to_light);
   vec3 t0 = (frame.changed_lo.xyz - cone - p) * inv, t1 = (frame.changed_hi.xyz + cone - p) * inv;
   vec3 near = min(t0, t1), far = max(t0, t1);
   float enter = max(max(max(near.x, near.y), near.z), 0.0), leave = min(min(min(far.x, far.y), far.z), t_max);
