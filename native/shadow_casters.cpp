@@ -15,17 +15,27 @@ struct Extent {
   float hi = -std::numeric_limits<float>::infinity();
 };
 
-// The normal of a mesh's largest triangle (object space, not normalized;
-// zero for a mesh without area).
-glm::vec3 largest_triangle_normal(const Mesh& mesh) {
-  glm::vec3 largest(0.0f);
+// A mesh's largest triangle (object space): its normal (not normalized) and
+// its shortest edge, along the outline of a rectangle's halves; both zero
+// for a mesh without area.
+struct LargestTriangle {
+  glm::vec3 normal{0.0f}, shortest_edge{0.0f};
+};
+
+LargestTriangle largest_triangle(const Mesh& mesh) {
+  LargestTriangle largest;
   float largest_area = 0.0f;
   for (size_t t = 0; t < mesh.triangle_count(); ++t) {
     const glm::vec3* p = mesh.positions.data();
     const glm::vec3 a = p[mesh.indices[3 * t]], b = p[mesh.indices[3 * t + 1]], c = p[mesh.indices[3 * t + 2]];
     const glm::vec3 n = glm::cross(b - a, c - a);
     const float area = glm::length(n);
-    if (area > largest_area) largest_area = area, largest = n;
+    if (area <= largest_area) continue;
+    largest_area = area;
+    largest.normal = n;
+    largest.shortest_edge = b - a;
+    for (glm::vec3 edge : {c - b, a - c})
+      if (glm::dot(edge, edge) < glm::dot(largest.shortest_edge, largest.shortest_edge)) largest.shortest_edge = edge;
   }
   return largest;
 }
@@ -53,12 +63,6 @@ bool lights_in_front(const std::vector<Light>& lights, glm::vec3 n, float offset
   return true;
 }
 
-// Two unit vectors across the unit vector n.
-void across(glm::vec3 n, glm::vec3& t, glm::vec3& b) {
-  t = glm::normalize(std::abs(n.z) < 0.9f ? glm::cross(n, glm::vec3(0, 0, 1)) : glm::cross(n, glm::vec3(1, 0, 0)));
-  b = glm::cross(n, t);
-}
-
 // Whether another caster leaves the flat instance free to be only a
 // receiver, with its outer face the plane dot(x, outward) = offset: it lies
 // in front of that face (give or take `tolerance`), or it stands on it: it
@@ -67,14 +71,20 @@ void across(glm::vec3 n, glm::vec3& t, glm::vec3& b) {
 // part is then hidden under the flat instance from every view in front of
 // it, and no path from a surface in front to a light in front passes there.
 // (Only geometry wholly behind, or behind beyond its edge, can be a receiver
-// there that it might shadow.)
-bool leaves_it_a_receiver(const MeshExtent& flat, const glm::mat4& flat_to_world, const MeshExtent& other,
-                          const glm::mat4& other_to_world, glm::vec3 outward, float offset, float tolerance) {
+// there that it might shadow.) The extent across is measured along the flat
+// instance's own outline (`edge`, placed: its largest triangle's shortest
+// side) and across it, so that a ground turned about its normal is not taken
+// for the larger box around it; a disc's is the square around it.
+bool leaves_it_a_receiver(const MeshExtent& flat, const glm::mat4& flat_to_world, glm::vec3 edge,
+                          const MeshExtent& other, const glm::mat4& other_to_world, glm::vec3 outward, float offset,
+                          float tolerance) {
   const glm::vec2 along = other.placed_extent(other_to_world, outward);
   if (along.x - offset >= -tolerance) return true;
   if (along.y - offset <= tolerance) return false;
-  glm::vec3 t, b;
-  across(outward, t, b);
+  const glm::vec3 in_plane = edge - glm::dot(edge, outward) * outward;
+  const float length = glm::length(in_plane);
+  if (!(length > 0.0f) || !std::isfinite(length)) return false;  // (no outline to measure along: it stays)
+  const glm::vec3 t = in_plane / length, b = glm::cross(outward, t);
   for (glm::vec3 d : {t, b}) {
     const glm::vec2 own = flat.placed_extent(flat_to_world, d), theirs = other.placed_extent(other_to_world, d);
     if (theirs.x < own.x - tolerance || theirs.y > own.y + tolerance) return false;
@@ -95,8 +105,8 @@ std::vector<uint8_t> find_shadow_casters(const Scene& scene, const std::vector<M
   for (size_t i = 0; i < count; ++i)
     casters[i] = scene.instances[i].casts_shadow && !extents[scene.instances[i].mesh].empty() ? 1 : 0;
   // Each mesh's largest triangle, found once however many instances it has.
-  std::vector<glm::vec3> largest_normals;
-  for (const Mesh& mesh : scene.meshes) largest_normals.push_back(largest_triangle_normal(mesh));
+  std::vector<LargestTriangle> largest;
+  for (const Mesh& mesh : scene.meshes) largest.push_back(largest_triangle(mesh));
   for (size_t i = 0; i < count; ++i) {
     if (!casters[i]) continue;
     const Instance& instance = scene.instances[i];
@@ -104,7 +114,8 @@ std::vector<uint8_t> find_shadow_casters(const Scene& scene, const std::vector<M
     const Bounds box = extent.placed_bounds(instance.object_to_world);
     const float size = glm::length(box.extent());
     const float tolerance = 1e-3f * size;  // (rounding: objects resting on the ground may touch it)
-    for (glm::vec3 n : candidate_normals(largest_normals[instance.mesh], instance.object_to_world)) {
+    const glm::vec3 edge = glm::mat3(instance.object_to_world) * largest[instance.mesh].shortest_edge;
+    for (glm::vec3 n : candidate_normals(largest[instance.mesh].normal, instance.object_to_world)) {
       const glm::vec2 own = extent.placed_extent(instance.object_to_world, n);
       if (own.y - own.x > kFlatness * size) continue;
       for (float side : {1.0f, -1.0f}) {
@@ -115,7 +126,7 @@ std::vector<uint8_t> find_shadow_casters(const Scene& scene, const std::vector<M
         for (size_t j = 0; j < count && others_in_front; ++j) {
           const Instance& other = scene.instances[j];
           if (j == i || !other.casts_shadow || extents[other.mesh].empty()) continue;  // the flags, not the result
-          others_in_front = leaves_it_a_receiver(extent, instance.object_to_world, extents[other.mesh],
+          others_in_front = leaves_it_a_receiver(extent, instance.object_to_world, edge, extents[other.mesh],
                                                  other.object_to_world, outward, offset, tolerance);
         }
         if (others_in_front && lights_in_front(lights, outward, offset)) {

@@ -75,9 +75,9 @@ float trace_scene(vec3 origin, vec3 dir, float t_max, bool any_hit, out bool fro
   hit_instance = 0u;
   float best_t = t_max;
   // A scene with nothing to hit has a root box inside out (lo above hi). The
-  // slab test alone lets a ray parallel to an axis into such a box (its
-  // slabs along that axis span everything), and the traversal went on into
-  // placeholder buffers: on NVIDIA's driver it never ended.
+  // slab test takes each pair of planes in either order, so it reads such a
+  // box as the one between the same planes, and rays through it went on into
+  // placeholder buffers: on NVIDIA's driver the traversal never ended.
   if (any(greaterThan(top_nodes[0].lo.xyz, top_nodes[0].hi.xyz))) return best_t;
   // (1 / dir with zeros made huge, not infinite: a zero times infinity is NaN,
   // which drivers order differently in min and max)

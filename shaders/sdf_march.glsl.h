@@ -352,10 +352,8 @@ bool enters_sky_blocker(vec3 p, vec3 dir) {
   for (int i = 0; i < int(frame.ambient.w); ++i) {
     vec3 lo = frame.sky_blockers[2 * i].xyz, hi = frame.sky_blockers[2 * i + 1].xyz;
     vec3 pad = vec3(1e-4 * length(hi - lo));  // a plane's box has no thickness
-    vec3 t0 = (lo - pad - p) * inv, t1 = (hi + pad - p) * inv;
-    vec3 near = min(t0, t1), far = max(t0, t1);
-    float enter = max(max(near.x, near.y), near.z), leave = min(min(far.x, far.y), far.z);
-    if (enter > 0.0 && enter <= leave) return true;
+    vec2 span = ray_box_span(p, inv, lo - pad, hi + pad);
+    if (span.x > 0.0 && span.x <= span.y) return true;
   }
   return false;
 }

@@ -27,7 +27,7 @@
 //   takes the new sample unclipped.
 // The accumulation's running mean then goes on from history's samples
 // (accum_passes.z), up to history_samples of them (kStillHistory times that
-// for a still pixel).
+// for a settled pixel, and a still one away from contact with what moved).
 #include "shared.h"
 
 layout(local_size_x = 8, local_size_y = 8) in;
@@ -65,11 +65,8 @@ bool light_path_crosses_change(vec3 p, int l) {
   vec3 centre = 0.5 * (frame.changed_lo.xyz + frame.changed_hi.xyz);
   float cone = sun ? light.direction.w * (distance(p, centre) + length(frame.changed_hi.xyz - centre))
                    : light.direction.w;
-  vec3 inv = safe_inverse(to_light);
-  vec3 t0 = (frame.changed_lo.xyz - cone - p) * inv, t1 = (frame.changed_hi.xyz + cone - p) * inv;
-  vec3 near = min(t0, t1), far = max(t0, t1);
-  float enter = max(max(max(near.x, near.y), near.z), 0.0), leave = min(min(min(far.x, far.y), far.z), t_max);
-  return enter <= leave;
+  vec2 span = ray_box_span(p, safe_inverse(to_light), frame.changed_lo.xyz - cone, frame.changed_hi.xyz + cone);
+  return max(span.x, 0.0) <= min(span.y, t_max);
 }
 
 // Where a still pixel near what moved is clipped as a moving one's: within
@@ -100,10 +97,11 @@ bool near_change(vec3 p, float reach) {
 }
 
 // The world width of a pixel at p (from the projection's first row: the
-// view's x axis, scaled).
+// view's x axis, scaled; a lens shift's share along the view left out).
 float pixel_width_at(vec3 p) {
   mat4 m = frame.steady_world_to_clip;
-  float scale = length(vec3(m[0][0], m[1][0], m[2][0]));
+  vec3 row = vec3(m[0][0], m[1][0], m[2][0]), forward = frame.camera_forward.xyz;
+  float scale = length(row - dot(row, forward) * forward);
   return 2.0 * abs((m * vec4(p, 1.0)).w) / (float(pc.image_size.x) * max(scale, 1e-20));
 }
 

@@ -27,7 +27,7 @@ ShadePass::ShadePass(const vk::Context& context)
                        vk::Buffer::Access::DeviceOnly) {
   vk::make_general(context, {&no_shadow_atlas_});
   // An empty box (lo above hi): trace_scene sees it and traces nothing
-  // (shaders/ray_trace.glsl.h; its instances and BVHs are never read).
+  // (shaders/ray_trace.glsl.h; the placeholder instances and BVHs are never read).
   gpu::BvhNode empty{};
   empty.lo = glm::vec4(1.0f);
   empty.hi = glm::vec4(-1.0f);

@@ -77,19 +77,22 @@ class Figures(unittest.TestCase):
         refs = {"before_shadowed": np.zeros((height, width, 3), np.float32)}
         refs["after_shadowed"] = refs["before_shadowed"].copy()
         # Cycles sees the quad before the move only (after it, it is out of the view).
-        self.assertEqual(bench.mover_screen_box(data, 0), (10, 16, 22, 29))
+        self.assertEqual(bench.mover_screen_box(data, 0), (9, 16, 22, 29))
         self.assertIsNone(bench.mover_screen_box(data, bench.ANIMATION_STEPS))
-        refs["after_shadowed"][10:17, 22:30] = 1.0
+        refs["after_shadowed"][9:17, 22:30] = 1.0
         # Half way, it is wholly below and right of those pixels.
         middle = bench.mover_screen_box(data, bench.ANIMATION_STEPS // 2)
         self.assertGreater(middle[0], 16)
         self.assertGreater(middle[2], 29)
         static = bench.static_pixels(refs, data, margin=0.0)
         self.assertFalse(static[middle[0]:middle[1] + 1, middle[2]:middle[3] + 1].any())
-        self.assertFalse(static[10:17, 22:30].any())
+        self.assertFalse(static[9:17, 22:30].any())
         self.assertTrue(static[:8, 30:].all())  # (above the path, right of the start: left alone)
-        # Without the path, the box around Cycles' changed pixels alone.
+        # An instance that does not move has no path; one crossing the camera's plane takes the whole image.
         self.assertIsNone(bench.mover_screen_box({"before": data["before"], "after": data["before"]}, 4))
+        mesh["positions"] = np.array([0, 0, 0, 1, 0, 0, 1, 0, 10, 0, 0, 10], np.float32)  # (upright, through z = 5)
+        self.assertEqual(bench.mover_screen_box({"before": pose(0.0, 0.0), "after": pose(1.0, 0.0)}, 4),
+                         (0, height - 1, 0, width - 1))
 
     def test_pareto_front(self):
         points = [(10.0, 0.5), (20.0, 0.2), (15.0, 0.6), (30.0, 0.1), (30.0, 0.3)]

@@ -58,6 +58,14 @@ TEST(ShadowCasters, GroundWithACasterSunkThroughItIsOnlyAReceiver) {
   // Sunk beyond the ground's edge, its part below can be seen from the side: the ground stays.
   scene.instances[1].object_to_world = glm::translate(glm::mat4(1.0f), glm::vec3(9.8f, 0, -0.5f));
   EXPECT_EQ(find_shadow_casters(scene, {sun_towards({0.3f, 0.2f, -1.0f})}), (std::vector<uint8_t>{1, 1}));
+  // A ground turned 45 degrees about its normal (its corners 14.1 out along the axes, its edges 10 out
+  // along the diagonals): at (2, 3) the box sinks under it; at (8.5, 8.5), 12 out along a diagonal, it
+  // sinks beyond its edge, though inside the world box around the ground.
+  scene.instances[0].object_to_world = glm::rotate(glm::mat4(1.0f), glm::radians(45.0f), glm::vec3(0, 0, 1));
+  scene.instances[1].object_to_world = glm::translate(glm::mat4(1.0f), glm::vec3(2, 3, -0.5f));
+  EXPECT_EQ(find_shadow_casters(scene, {sun_towards({0.3f, 0.2f, -1.0f})}), (std::vector<uint8_t>{0, 1}));
+  scene.instances[1].object_to_world = glm::translate(glm::mat4(1.0f), glm::vec3(8.5f, 8.5f, -0.5f));
+  EXPECT_EQ(find_shadow_casters(scene, {sun_towards({0.3f, 0.2f, -1.0f})}), (std::vector<uint8_t>{1, 1}));
 }
 
 TEST(ShadowCasters, GroundThatCanBlockALightStays) {
