@@ -51,16 +51,19 @@ void GpuScene::update_bounds() {
 }
 
 void GpuScene::mark_changed(uint32_t instance) {
-  if (!std::binary_search(casters_.begin(), casters_.end(), instance)) return;
   const Bounds b = scene_.world_bounds({instance}, extents_);
   if (b.is_empty()) return;  // an empty mesh
-  changes_.region = changes_.any ? Bounds{glm::min(changes_.region.lo, b.lo), glm::max(changes_.region.hi, b.hi)} : b;
-  changes_.any = true;
+  auto grow = [&b](bool& any, Bounds& region) {
+    region = any ? Bounds{glm::min(region.lo, b.lo), glm::max(region.hi, b.hi)} : b;
+    any = true;
+  };
+  grow(changes_.any_moved, changes_.moved);
+  if (std::binary_search(casters_.begin(), casters_.end(), instance)) grow(changes_.any, changes_.region);
 }
 
 GpuScene::Changes GpuScene::take_changes() {
   Changes taken = changes_;
-  changes_ = Changes{false, false, Bounds{}};
+  changes_ = Changes{false, false, Bounds{}, false, Bounds{}};
   return taken;
 }
 

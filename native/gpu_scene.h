@@ -90,10 +90,14 @@ class GpuScene {
   // union of the old and new world bounds of the casters that moved or
   // deformed (`any`), or `everything` after the upload or a change of which
   // instances cast shadows. The fine SDF retraces only near such changes.
+  // `moved`: the same union over every instance that moved or deformed,
+  // casting shadows or not (`any_moved`), for what the camera saw move.
   struct Changes {
     bool everything = true;
     bool any = false;
     Bounds region;
+    bool any_moved = false;
+    Bounds moved;
   };
   Changes take_changes();
 

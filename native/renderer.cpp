@@ -448,6 +448,11 @@ void Renderer::begin(GpuScene& scene, const Camera& camera, const std::vector<Li
     frame_data_.changed_lo = glm::vec4(region.lo, 1.0f);
     frame_data_.changed_hi = glm::vec4(region.hi, 1.0f);
   }
+  // What moved on screen, casting shadows or not (a silhouette's history may hold it).
+  if (has_history_ && scene_changed && last_changes_ && last_changes_->any_moved) {
+    frame_data_.moved_lo = glm::vec4(last_changes_->moved.lo, 1.0f);
+    frame_data_.moved_hi = glm::vec4(last_changes_->moved.hi, 1.0f);
+  }
   drawn_scene_id_ = scene.id();
   drawn_transforms_ = std::move(transforms);
 

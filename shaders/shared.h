@@ -135,6 +135,9 @@ struct FrameData {
   // World box of what moved or deformed among the shadow casters since the
   // last frame (the union of their old and new bounds; lo.w = 0: nothing).
   vec4 changed_lo, changed_hi;
+  // The same over every instance, casting shadows or not (what the camera may
+  // have seen move).
+  vec4 moved_lo, moved_hi;
   // previous_world_to_clip times the inverse of steady_world_to_clip (the
   // background's motion), made in double precision: the identity where the
   // camera stayed.
@@ -315,7 +318,7 @@ struct ShadowMapPush {
 static_assert(sizeof(BvhNode) == 48, "BvhNode layout");
 static_assert(sizeof(WindingDipole) == 32, "WindingDipole layout");
 static_assert(sizeof(GpuLight) == 64, "GpuLight layout");
-static_assert(sizeof(FrameData) == 112 + 32 * kMaxSkyBlockers + 3 * 64 + 4 * 16, "FrameData layout");
+static_assert(sizeof(FrameData) == 112 + 32 * kMaxSkyBlockers + 3 * 64 + 6 * 16, "FrameData layout");
 static_assert(sizeof(GBufferPush) == 96, "GBufferPush layout");
 static_assert(sizeof(GpuMaterial) == 32, "GpuMaterial layout");
 static_assert(sizeof(ShadePush) == 96, "ShadePush layout");

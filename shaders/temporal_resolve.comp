@@ -83,12 +83,13 @@ const float kSameShadow = 0.02;
 // more slowly than a moved shadow, which is clipped apart).
 const float kStillHistory = 4.0;
 
-// Whether p is within `distance` of the changed box.
-bool within_change(vec3 p, float distance) {
-  if (frame.changed_lo.w == 0.0) return false;
-  vec3 outside = max(max(frame.changed_lo.xyz - p, p - frame.changed_hi.xyz), 0.0);
+// Whether p is within `distance` of the box lo, hi (lo.w = 0: an empty box).
+bool within_box(vec3 p, vec4 lo, vec4 hi, float distance) {
+  if (lo.w == 0.0) return false;
+  vec3 outside = max(max(lo.xyz - p, p - hi.xyz), 0.0);
   return length(outside) <= distance;
 }
+bool within_change(vec3 p, float distance) { return within_box(p, frame.changed_lo, frame.changed_hi, distance); }
 
 // Whether p is within `reach` times the changed box's own size of it (at 1:
 // the sky it sees may be what moved).
@@ -240,10 +241,11 @@ void main() {
     vec3 history_front = on_ray + ray * ((history_nearest - dot(on_ray - camera, forward)) / max(dot(ray, forward), 1e-3));
     // (that front surface was seen within the jitter's reach of this pixel's
     // ray, read bilinearly: a moved object's lies in the box of what moved,
-    // give or take that many pixels; a whole box's size more took in the
-    // ground's far edge, and the horizon never settled)
+    // casting shadows or not, give or take that many pixels; a whole box's
+    // size more took in the ground's far edge, and the horizon never settled)
     front_moved = history_nearest < depth * (1.0 - pc.depth_tolerance) &&
-                  within_change(history_front, (pc.jitter_reach + 2.0) * pixel_width_at(history_front));
+                  within_box(history_front, frame.moved_lo, frame.moved_hi,
+                             (pc.jitter_reach + 2.0) * pixel_width_at(history_front));
   }
   bool shadow_moved = false;  // (it may have: the paths to a light cross the box of what moved)
   for (int l = 0; l < pc.light_count && !background && !disoccluded; ++l)
