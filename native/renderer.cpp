@@ -441,17 +441,17 @@ void Renderer::begin(GpuScene& scene, const Camera& camera, const std::vector<Li
   const std::vector<glm::mat4>& previous = has_history_ ? drawn_transforms_ : transforms;
   previous_transforms_ = vk::upload_buffer(context_, previous.data(), previous.size() * sizeof(glm::mat4),
                                            VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
-  // What moved among the casters (their shadows moved with them): all of it
-  // when the casters themselves were swapped.
-  if (has_history_ && scene_changed && last_changes_ && (last_changes_->any || last_changes_->everything)) {
-    const Bounds region = last_changes_->everything ? scene.bounds() : last_changes_->region;
-    frame_data_.changed_lo = glm::vec4(region.lo, 1.0f);
-    frame_data_.changed_hi = glm::vec4(region.hi, 1.0f);
-  }
-  // What moved on screen, casting shadows or not (a silhouette's history may hold it).
-  if (has_history_ && scene_changed && last_changes_ && last_changes_->any_moved) {
-    frame_data_.moved_lo = glm::vec4(last_changes_->moved.lo, 1.0f);
-    frame_data_.moved_hi = glm::vec4(last_changes_->moved.hi, 1.0f);
+  if (has_history_ && scene_changed && last_changes_) {
+    auto put = [](const Bounds& box, glm::vec4& lo, glm::vec4& hi) {
+      lo = glm::vec4(box.lo, 1.0f), hi = glm::vec4(box.hi, 1.0f);
+    };
+    // What moved among the casters (their shadows moved with them): all of it
+    // when the casters themselves were swapped.
+    if (last_changes_->any || last_changes_->everything)
+      put(last_changes_->everything ? scene.bounds() : last_changes_->region, frame_data_.changed_lo,
+          frame_data_.changed_hi);
+    // What moved on screen, casting shadows or not (a silhouette's history may hold it).
+    if (last_changes_->any_moved) put(last_changes_->moved, frame_data_.moved_lo, frame_data_.moved_hi);
   }
   drawn_scene_id_ = scene.id();
   drawn_transforms_ = std::move(transforms);

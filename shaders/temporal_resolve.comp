@@ -89,12 +89,11 @@ bool within_box(vec3 p, vec4 lo, vec4 hi, float distance) {
   vec3 outside = max(max(lo.xyz - p, p - hi.xyz), 0.0);
   return length(outside) <= distance;
 }
-bool within_change(vec3 p, float distance) { return within_box(p, frame.changed_lo, frame.changed_hi, distance); }
 
 // Whether p is within `reach` times the changed box's own size of it (at 1:
 // the sky it sees may be what moved).
 bool near_change(vec3 p, float reach) {
-  return within_change(p, reach * length(frame.changed_hi.xyz - frame.changed_lo.xyz));
+  return within_box(p, frame.changed_lo, frame.changed_hi, reach * length(frame.changed_hi.xyz - frame.changed_lo.xyz));
 }
 
 // The world width of a pixel at p (from the projection's first row: the
