@@ -205,7 +205,7 @@ Renderer::Renderer(const vk::Context& context, std::shared_ptr<FieldCache> field
       temporal_(context),
       object_fields_(context, std::move(field_cache)),
       world_field_(context),
-      shading_timer_(context, 5),
+      shading_timer_(context, 8),  // (begin, gbuffer, keep, quad, shade, resolve)
       march_(context) {}
 
 void Renderer::validate(int width, int height, const RenderSettings& settings) const {
@@ -428,6 +428,7 @@ void Renderer::begin(GpuScene& scene, const Camera& camera, const std::vector<Li
   world_to_clip_ = kGlToVulkan * camera.projection * camera.world_to_view;
   // Motion since the last accumulation: its camera, and each instance's transform then.
   frame_data_.steady_world_to_clip = world_to_clip_;
+  frame_data_.steady_clip_to_world = glm::mat4(glm::inverse(glm::dmat4(world_to_clip_)));
   const gpu::FrameData& drawn = has_history_ ? drawn_frame_ : frame_data_;
   frame_data_.previous_world_to_clip = has_history_ ? drawn.steady_world_to_clip : world_to_clip_;
   frame_data_.steady_clip_to_previous_clip =
@@ -561,37 +562,52 @@ void Renderer::add_frame() {
   const bool traces_rays =
       push_.visibility_mode == gpu::kVisibilityRayTraced || push_.visibility_mode == gpu::kVisibilityHybrid;
   const GpuScene::RayStructures* rays = traces_rays && has_casters_ ? &scene_->ray_structures() : nullptr;
+  // Temporal reuse, in the first frame after a change: history is kept
+  // before the shading where it stands whatever the new sample (with the
+  // camera and the lighting as they were; otherwise no pixel would be),
+  // and resolved with the sample after it.
+  const bool resolves = has_history_ && frame_ == 0;
+  const bool keeps = resolves && same_lighting_ && frame_data_.steady_clip_to_previous_clip == glm::mat4(1.0f);
+  push_.kept_history = keeps ? 1u : 0u;
+  gpu::TemporalPush temporal{};
+  temporal.image_size = glm::ivec2(width_, height_);
+  temporal.light_count = light_count_;
+  temporal.history_samples = settings_.history_samples > 0 ? settings_.history_samples : settings_.samples;
+  temporal.clip = kTemporalClip;
+  temporal.moved_shadow_clip = kMovedShadowClip;
+  temporal.moved_shadow_samples = kMovedShadowSamples;
+  temporal.depth_tolerance = kReprojectedDepthTolerance;
+  // (the pixel filter's jitter reaches filter_width pixels either way)
+  temporal.jitter_reach = std::ceil(std::max(settings_.filter_width, 0.5f));
+  temporal.same_lighting = same_lighting_ ? 1u : 0u;
+  const TemporalImages temporal_images{accum_color_,    accum_passes_,    history_color_,
+                                       history_passes_, resolved_color_, resolved_passes_};
+  auto compute_barrier = [](VkCommandBuffer cmd) {
+    vk::memory_barrier(cmd, VK_ACCESS_SHADER_WRITE_BIT, VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT,
+                       VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT);
+  };
   context_.submit_and_wait([&](VkCommandBuffer cmd) {
     shading_timer_.begin(cmd);
     gbuffer_.record(cmd, *scene_, frame_buffer_, field_voxels_, previous_transforms_);
     shading_timer_.mark(cmd, "gbuffer");
+    if (keeps) {
+      temporal_.record_keep(cmd, gbuffer_, temporal_images, frame_buffer_, light_buffer_, temporal);
+      compute_barrier(cmd);
+      shading_timer_.mark(cmd, "keep");
+    }
     const bool march_sky = push_.visibility_mode != gpu::kVisibilityShadowMaps &&
                            glm::dot(glm::vec3(frame_data_.ambient), glm::vec3(frame_data_.ambient)) > 0.0f;
     const bool share_lights = settings_.quick_first_frame && frame_ == 0;
     shade_.record(cmd, {gbuffer_, march_, shadow_maps, rays, light_buffer_, frame_buffer_}, {accum_color_, accum_passes_},
                   march_sky, share_lights, push_, &shading_timer_);
     shading_timer_.mark(cmd, "shade");
-    if (has_history_ && frame_ == 0) {
-      vk::memory_barrier(cmd, VK_ACCESS_SHADER_WRITE_BIT, VK_ACCESS_SHADER_READ_BIT,
-                         VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT);
-      gpu::TemporalPush temporal{};
-      temporal.image_size = glm::ivec2(width_, height_);
-      temporal.light_count = light_count_;
-      temporal.history_samples = settings_.history_samples > 0 ? settings_.history_samples : settings_.samples;
-      temporal.clip = kTemporalClip;
-      temporal.moved_shadow_clip = kMovedShadowClip;
-      temporal.moved_shadow_samples = kMovedShadowSamples;
-      temporal.depth_tolerance = kReprojectedDepthTolerance;
-      // (the pixel filter's jitter reaches filter_width pixels either way)
-      temporal.jitter_reach = std::ceil(std::max(settings_.filter_width, 0.5f));
-      temporal.same_lighting = same_lighting_ ? 1u : 0u;
-      temporal_.record(cmd, gbuffer_,
-                       {accum_color_, accum_passes_, history_color_, history_passes_, resolved_color_, resolved_passes_},
-                       frame_buffer_, light_buffer_, temporal);
+    if (resolves) {
+      compute_barrier(cmd);
+      temporal_.record(cmd, gbuffer_, temporal_images, frame_buffer_, light_buffer_, temporal);
       shading_timer_.mark(cmd, "temporal");
     }
   });
-  if (has_history_ && frame_ == 0) {
+  if (resolves) {
     std::swap(accum_color_, resolved_color_);
     std::swap(accum_passes_, resolved_passes_);
   }
@@ -600,7 +616,7 @@ void Renderer::add_frame() {
   for (const vk::GpuTimer::Span& span : shading_timer_.read()) {
     (span.label == "gbuffer" ? timings_.gbuffer_gpu_ms : timings_.shade_gpu_ms) += span.ms;
     if (span.label == "quad") timings_.quad_gpu_ms += span.ms;
-    if (span.label == "temporal") timings_.temporal_gpu_ms += span.ms;
+    if (span.label == "keep" || span.label == "temporal") timings_.temporal_gpu_ms += span.ms;
   }
   timings_.total_ms += ms_since(start);
   frame_++;

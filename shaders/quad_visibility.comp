@@ -50,7 +50,14 @@ void main() {
   int quad_index = quad.x + quad_grid().x * quad.y;
   ivec2 pixel = quad_sample_pixel(quad);
   vec4 position = imageLoad(g_position, pixel);
-  if (position.w <= 0.0) {
+  // A quad no pixel that shares its sample shades (shared_visibility: the
+  // 4 x 4 pixels around it, all kept from history) is not marched. (Its
+  // own pixels alone would leave the next quad's pixels at a kept region's
+  // edge without their neighbour's sample, and the fill pass marched each.)
+  bool kept = pc.kept_history == 1u;
+  for (int k = 0; k < 16 && kept; ++k)
+    kept = kept_from_history(clamp(2 * quad + ivec2(k & 3, k >> 2) - 1, ivec2(0), pc.image_size - 1));
+  if (position.w <= 0.0 || kept) {
     imageStore(quad_samples, quad, vec4(0.0, 0.0, 0.0, -1.0));
     if (kShadeStage == kShadeShared)
       for (int l = 0; l < pc.light_count; ++l) quad_lights[l * quad_count() + quad_index] = -1.0;

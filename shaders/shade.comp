@@ -19,10 +19,7 @@
 #include "shared.h"
 
 layout(local_size_x = 8, local_size_y = 8) in;
-#include "shade_inputs.glsl.h"  // the G-buffer, the frame, the lights, the fields, the march, the quad samples
-layout(binding = 6, rgba32f) uniform image2D accum_color;   // rgb = Combined, a = coverage
-// x = Depth (the nearest seen), y = Shadow (visibility), z = samples in the mean, w = the farthest depth seen
-layout(binding = 7, rgba32f) uniform image2D accum_passes;
+#include "shade_inputs.glsl.h"  // the G-buffer, the frame, the lights, the fields, the march, the quad samples, the accumulation
 // The field view drawn in place of the image (kDebug*; as pc.field_view): a
 // constant, as the method is, since lavapipe pays for the views' code in
 // every pixel even where a branch skips it (it made the shading 2.5x slower).
@@ -38,6 +35,7 @@ void main() {
   } else {
     pixel = ivec2(gl_GlobalInvocationID.xy);
     if (any(greaterThanEqual(pixel, pc.image_size))) return;
+    if (kept_from_history(pixel)) return;  // (its sample is history's, written by the keep pass)
   }
   vec4 position = imageLoad(g_position, pixel);
   vec3 color = frame.ambient.rgb;

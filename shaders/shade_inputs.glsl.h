@@ -38,6 +38,22 @@ layout(std430, binding = 13) writeonly buffer QuadLights { float quad_lights[]; 
 layout(binding = 12, rgba32f) uniform readonly image2D quad_samples;
 layout(std430, binding = 13) readonly buffer QuadLights { float quad_lights[]; };
 #endif
+// The accumulation the shading adds this frame's sample to (the quad pass
+// only reads which pixels the temporal keep pass kept).
+#ifdef RTSDF_QUAD_PASS
+layout(binding = 7, rgba32f) uniform readonly image2D accum_passes;
+#else
+layout(binding = 6, rgba32f) uniform image2D accum_color;   // rgb = Combined, a = coverage
+// x = Depth (the nearest seen), y = Shadow (visibility), z = samples in the mean, w = the farthest depth seen
+layout(binding = 7, rgba32f) uniform image2D accum_passes;
+#endif
+
+// Whether the temporal keep pass (temporal_keep.comp) took this pixel's
+// history as this frame's sample: nothing of it is shaded.
+bool kept_from_history(ivec2 pixel) {
+  return pc.kept_history == 1u && imageLoad(accum_passes, pixel).z == kKeptSample;
+}
+
 // The pixels a kShadeShared pass left to kShadeFill (x | y << 16), and the
 // fill's indirect dispatch: one group of 64 per 64 listed. The quad pass
 // lists quads alike for its kShadeSkyList pass.

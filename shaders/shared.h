@@ -142,6 +142,9 @@ struct FrameData {
   // background's motion), made in double precision: the identity where the
   // camera stayed.
   mat4 steady_clip_to_previous_clip;
+  // The inverse of steady_world_to_clip, made in double precision (where the
+  // temporal passes' background pixels look from).
+  mat4 steady_clip_to_world;
 };
 
 // What a G-buffer pixel holds (its position's w, and GBufferPush.base_color.w).
@@ -184,6 +187,9 @@ struct TemporalPush {
 // The most samples history stands for where it matched a pixel's depth only
 // within the jitter's reach (temporal_resolve.comp).
 const float kNearbyHistorySamples = 3.0;
+// accum_passes.z of a pixel whose history the temporal keep pass kept as
+// this frame's sample (temporal_keep.comp): the shading passes skip it.
+const float kKeptSample = -1.0;
 
 // The depth pass where a pixel sees no surface (the world behind everything).
 const float kNothingHitDepth = 1e10;
@@ -274,7 +280,7 @@ struct ShadePush {
   uint field_view;               // kDebug*: a view of the fields in place of the image
   float field_view_height;       // the distance slice's world z
   float sky_receiver_clearance;  // ... and the sky's cones
-  uint pad1;
+  uint kept_history;             // 1: the temporal keep pass ran; pixels marked kKeptSample are not shaded
 };
 
 // Views of the distance fields in place of the shaded image (ShadePush::field_view; field_views.glsl.h).
@@ -318,7 +324,7 @@ struct ShadowMapPush {
 static_assert(sizeof(BvhNode) == 48, "BvhNode layout");
 static_assert(sizeof(WindingDipole) == 32, "WindingDipole layout");
 static_assert(sizeof(GpuLight) == 64, "GpuLight layout");
-static_assert(sizeof(FrameData) == 112 + 32 * kMaxSkyBlockers + 3 * 64 + 6 * 16, "FrameData layout");
+static_assert(sizeof(FrameData) == 112 + 32 * kMaxSkyBlockers + 4 * 64 + 6 * 16, "FrameData layout");
 static_assert(sizeof(GBufferPush) == 96, "GBufferPush layout");
 static_assert(sizeof(GpuMaterial) == 32, "GpuMaterial layout");
 static_assert(sizeof(ShadePush) == 96, "ShadePush layout");

@@ -1,5 +1,8 @@
 #pragma once
-// Pass 3c: temporal reuse (shaders/temporal_resolve.comp). After the shading
+// Pass 3c: temporal reuse (shaders/temporal_keep.comp, temporal_resolve.comp).
+// Before the shading of the first frame after a change, the pixels whose
+// history stands whatever they would sample (still, away from what moved)
+// keep it, and are not shaded. After the shading
 // of the first frame after a change, the accumulation from before the change
 // (history) is reprojected by the G-buffer's motion, dropped where another
 // surface shows, clipped to the new frame's neighbourhood, and carried into
@@ -26,11 +29,19 @@ struct TemporalImages {
 class TemporalPass {
  public:
   explicit TemporalPass(const vk::Context& context);
+  // Before the shading (shaders/temporal_keep.comp): where history stands
+  // whatever the new sample, it is resolved (images.resolved_*) and becomes
+  // the sample (images.sample_*), marked for the shading and the resolve to
+  // skip (gpu::kKeptSample).
+  void record_keep(VkCommandBuffer cmd, const GBufferPass& gbuffer, const TemporalImages& images,
+                   const vk::Buffer& frame, const vk::Buffer& lights, const gpu::TemporalPush& push) const;
+  // After it (shaders/temporal_resolve.comp).
   void record(VkCommandBuffer cmd, const GBufferPass& gbuffer, const TemporalImages& images, const vk::Buffer& frame,
               const vk::Buffer& lights, const gpu::TemporalPush& push) const;
 
  private:
-  vk::Pipeline pipeline_;
+  vk::Pipeline keep_;
+  vk::Pipeline resolve_;
 };
 
 }  // namespace rtsdf

@@ -246,7 +246,7 @@ void Pipeline::adopt(std::shared_ptr<const void> objects) {
 
 void Pipeline::bind(VkCommandBuffer cmd) const { vkCmdBindPipeline(cmd, bind_point_, pipeline_); }
 
-void Pipeline::push_descriptors(VkCommandBuffer cmd, std::initializer_list<Resource> resources) const {
+void Pipeline::push_descriptors(VkCommandBuffer cmd, const std::vector<Resource>& resources) const {
   std::vector<VkWriteDescriptorSet> writes;
   uint32_t binding = 0;
   for (const Resource& r : resources) {

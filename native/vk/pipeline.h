@@ -56,7 +56,7 @@ class Pipeline {
   Pipeline& operator=(const Pipeline&) = delete;
 
   void bind(VkCommandBuffer cmd) const;
-  void push_descriptors(VkCommandBuffer cmd, std::initializer_list<Resource> resources) const;
+  void push_descriptors(VkCommandBuffer cmd, const std::vector<Resource>& resources) const;
   template <typename T>
   void push_constants(VkCommandBuffer cmd, const T& value) const {
     push_constant_bytes(cmd, &value, sizeof(T));

@@ -1,0 +1,219 @@
+// History from before a change, as this frame's pixels find it: where each
+// pixel's surface point was (the G-buffer's motion), what history holds
+// there, whether it shows the same surface, and whether what moved can have
+// changed it. Shared by the temporal passes: the keep pass
+// (temporal_keep.comp) keeps the pixels whose history stands whatever this
+// frame's sample, before any shading, and the resolve
+// (temporal_resolve.comp) decides the rest with the sample.
+// Needs: the TemporalPush `pc`, g_position, g_motion, history_color,
+// history_passes, resolved_color, resolved_passes, the Frame buffer `frame`
+// and the lights.
+#include "ray_box.glsl.h"
+
+// Whether the paths from p to light l (a cone towards its disk) cross the
+// box of the casters that moved: the box grown by the cone's radius there,
+// against the cone's axis.
+bool light_path_crosses_change(vec3 p, int l) {
+  if (frame.changed_lo.w == 0.0) return false;
+  GpuLight light = lights[l];
+  bool sun = uint(light.position.w) == kLightSun;
+  vec3 to_light = sun ? -light.direction.xyz : light.position.xyz - p;
+  float t_max = sun ? 1e30 : 1.0;
+  vec3 centre = 0.5 * (frame.changed_lo.xyz + frame.changed_hi.xyz);
+  float cone = sun ? light.direction.w * (distance(p, centre) + length(frame.changed_hi.xyz - centre))
+                   : light.direction.w;
+  vec2 span = ray_box_span(p, safe_inverse(to_light), frame.changed_lo.xyz - cone, frame.changed_hi.xyz + cone);
+  return max(span.x, 0.0) <= min(span.y, t_max);
+}
+
+// Whether p is within `distance` of the box lo, hi (lo.w = 0: an empty box).
+bool within_box(vec3 p, vec4 lo, vec4 hi, float distance) {
+  if (lo.w == 0.0) return false;
+  vec3 outside = max(max(lo.xyz - p, p - hi.xyz), 0.0);
+  return length(outside) <= distance;
+}
+
+// Where a still pixel is in contact with what moved: within this share of
+// the changed box's size (its diagonal) of the box. There the sky it sees
+// changes fast with the motion (a contact shadow), and it is sampled anew as
+// a moving pixel is. Beyond it, the sky's change follows the moved object's
+// share of the hemisphere, which falls with the square of the distance.
+// Taking a new sample there each frame (up to a whole box size out) made
+// flicker: the new samples' noise showed more than the sky's change, and the
+// error against Cycles was the same within 3% on six bench scenes
+// (docs/benchmarks.md).
+const float kContactReach = 0.25;
+
+bool in_contact_with_change(vec3 p) {
+  return within_box(p, frame.changed_lo, frame.changed_hi,
+                    kContactReach * length(frame.changed_hi.xyz - frame.changed_lo.xyz));
+}
+
+// The world width of a pixel at p (from the projection's first row: the
+// view's x axis, scaled; a lens shift's share along the view left out).
+float pixel_width_at(vec3 p) {
+  mat4 m = frame.steady_world_to_clip;
+  vec3 row = vec3(m[0][0], m[1][0], m[2][0]), forward = frame.camera_forward.xyz;
+  float scale = length(row - dot(row, forward) * forward);
+  return 2.0 * abs((m * vec4(p, 1.0)).w) / (float(pc.image_size.x) * max(scale, 1e-20));
+}
+
+// Whether a history texel whose passes are `range` saw depth `depth`: within
+// the range of depths its samples saw (passes x to w), give or take
+// depth_tolerance of it.
+bool saw_depth(vec4 range, float depth) {
+  return depth >= range.x * (1.0 - pc.depth_tolerance) && depth <= range.w * (1.0 + pc.depth_tolerance);
+}
+
+bool same_depth(ivec2 q, float depth) {
+  return saw_depth(imageLoad(history_passes, clamp(q, ivec2(0), pc.image_size - 1)), depth);
+}
+
+// Whether a texel within jitter_reach pixels of q saw depth `depth`. The
+// sub-pixel jitter (up to jitter_reach pixels, the same for every pixel of a
+// frame) moves a silhouette by as much from frame to frame, so this frame's
+// sample may see a surface that q's samples never did though a neighbour's
+// did. Such history is uncertain (it may as well be what just moved away):
+// it counts as few samples.
+bool near_depth(ivec2 q, float depth) {
+  int reach = int(pc.jitter_reach);
+  for (int dy = -reach; dy <= reach; ++dy)
+    for (int dx = -reach; dx <= reach; ++dx)
+      if (same_depth(q + ivec2(dx, dy), depth)) return true;
+  return false;
+}
+
+struct History {
+  bool disoccluded;      // history there shows other surfaces only (or the point was behind the last camera)
+  vec4 color;            // history's Combined, read bilinearly where the point was
+  float shadow;          // ... its Shadow pass
+  float samples;         // the samples it stands for (few where matched only within the jitter's reach)
+  float full_samples;    // the least samples of the texels read, matched or not
+  float nearest;         // the nearest and farthest depths its samples saw
+  float farthest;
+  float previous_depth;  // the point's depth from the last camera (the G-buffer motion's z)
+  vec3 on_ray;           // a point on this pixel's camera ray (the background's: on the near plane)
+  bool front_moved;      // its nearest surface was what moved: it mixes in an object that has left
+  bool still;            // full history where it was on screen, nothing moved in front of it, same lighting
+  bool away;             // the background, or beyond contact with the changed box (in_contact_with_change)
+  bool shadow_may_move;  // a path to a light crosses the box of the casters that moved
+};
+
+// The history of `pixel` (its G-buffer position `position`).
+History find_history(ivec2 pixel, vec4 position) {
+  History h;
+  h.disoccluded = true;
+  h.color = vec4(0.0);
+  h.shadow = 0.0;
+  h.samples = 1e30;
+  h.full_samples = 1e30;
+  h.nearest = kNothingHitDepth;
+  h.farthest = 0.0;
+  h.front_moved = false;
+  h.still = false;
+  h.away = true;
+  h.shadow_may_move = false;
+  vec4 motion = imageLoad(g_motion, pixel);
+  h.previous_depth = motion.z;
+  h.on_ray = position.xyz;
+  bool background = position.w <= 0.0;
+  if (background) {
+    // The world behind everything moves with the camera alone: where this
+    // pixel's ray met the far plane (with none, as cameras from Blender
+    // have, the ray's direction: a homogeneous point at infinity), seen
+    // from the last camera. Through the one matrix made in double
+    // precision: a camera that stays puts the background exactly where it
+    // was, and it settles (an inverse in single precision of a projection
+    // without far plane put it anywhere, and the horizon flickered; the
+    // inverse is made once, on the CPU, where each pixel's cost a tenth of
+    // the pass on lavapipe).
+    vec2 ndc = (vec2(pixel) + 0.5) / vec2(pc.image_size) * 2.0 - 1.0;
+    vec4 near_point = frame.steady_clip_to_world * vec4(ndc, 0.0, 1.0);
+    vec4 before = frame.steady_clip_to_previous_clip * vec4(ndc, 1.0, 1.0);
+    if (abs(near_point.w) < 1e-20 || before.w <= 0.0) return h;
+    h.on_ray = near_point.xyz / near_point.w;
+    motion = vec4(before.xy / before.w - ndc, kNothingHitDepth, 1.0);
+  }
+
+  // Where the surface point was: pixel centre + motion (in pixels), read
+  // bilinearly (nothing where it was behind the last camera).
+  vec2 at = vec2(pixel) + 0.5 + motion.xy * 0.5 * vec2(pc.image_size) - 0.5;
+  ivec2 base = ivec2(floor(at));
+  vec2 f = at - vec2(base);
+  float weights = 0.0;
+  for (int k = 0; k < 4 && motion.w > 0.0; ++k) {
+    ivec2 corner = base + ivec2(k & 1, k >> 1);
+    if (any(lessThan(corner, ivec2(0))) || any(greaterThanEqual(corner, pc.image_size))) continue;
+    vec4 before = imageLoad(history_passes, corner);
+    h.full_samples = min(h.full_samples, before.z);
+    if (!saw_depth(before, motion.z)) {
+      if (!near_depth(corner, motion.z)) continue;
+      before.z = min(before.z, kNearbyHistorySamples);
+    }
+    vec2 bilinear = mix(1.0 - f, f, vec2(k & 1, k >> 1));
+    float w = bilinear.x * bilinear.y;
+    if (w <= 0.0) continue;
+    h.color += w * imageLoad(history_color, corner);
+    h.shadow += w * before.y;
+    h.samples = min(h.samples, before.z);
+    h.nearest = min(h.nearest, before.x);
+    h.farthest = max(h.farthest, before.w);
+    weights += w;
+  }
+  h.disoccluded = weights < 1e-3;
+  if (h.disoccluded) return h;
+  h.color /= weights;
+  h.shadow /= weights;
+
+  // A silhouette's history holds the surfaces in front as well (its nearest
+  // depth). Where that front surface was what moved, this pixel's history
+  // mixes in an object that has left it: it is uncertain, and never settled.
+  // (The same for the background: where an object moved off it, history
+  // near its old outline still holds it.)
+  if (h.nearest < kNothingHitDepth) {
+    vec3 camera = frame.camera_position.xyz, forward = frame.camera_forward.xyz;
+    vec3 ray = frame.camera_position.w > 0.5 ? forward : normalize(h.on_ray - camera);
+    float depth = background ? kNothingHitDepth : dot(h.on_ray - camera, forward);
+    vec3 history_front = h.on_ray + ray * ((h.nearest - dot(h.on_ray - camera, forward)) / max(dot(ray, forward), 1e-3));
+    // (that front surface was seen within the jitter's reach of this pixel's
+    // ray, read bilinearly: a moved object's lies in the box of what moved,
+    // casting shadows or not, give or take that many pixels; a whole box's
+    // size more took in the ground's far edge, and the horizon never settled)
+    h.front_moved = h.nearest < depth * (1.0 - pc.depth_tolerance) &&
+                    within_box(history_front, frame.moved_lo, frame.moved_hi,
+                               (pc.jitter_reach + 2.0) * pixel_width_at(history_front));
+  }
+  for (int l = 0; l < pc.light_count && !background; ++l)
+    if (light_path_crosses_change(position.xyz, l)) h.shadow_may_move = true;
+  // Still: under the same lights and world, full history that stays on
+  // screen where it was, with no moved object in front of it before (the
+  // resolve leaves out, too, what lies in a moved shadow). A silhouette's
+  // new sample may see a surface its history never did (the jitter goes on
+  // to offsets the still frames did not take); away from what moved, that
+  // is the jitter, not motion, so its full history counts here.
+  h.still = pc.same_lighting == 1u && min(h.full_samples, float(pc.history_samples)) >= float(pc.history_samples) &&
+            !h.front_moved && all(lessThan(abs(at - vec2(pixel)), vec2(1e-3)));
+  h.away = background || !in_contact_with_change(position.xyz);
+  return h;
+}
+
+// Settled whatever this frame's sample: still, beyond contact with what
+// moved and out of any path past it to a light. Such a pixel
+// keeps its converged value; a new jittered sample would only make it
+// shimmer from frame to frame (what the still accumulation stops doing after
+// its samples too).
+bool settled_before_sample(History h) {
+  return !h.disoccluded && h.still && h.away && !h.shadow_may_move;
+}
+
+// A settled pixel's resolved accumulation: history as it was, with this
+// frame's coverage and depths (as the shading writes them in a first frame).
+void resolve_settled(ivec2 pixel, vec4 position, History h) {
+  bool background = position.w <= 0.0;
+  float seen = background ? kNothingHitDepth : dot(position.xyz - frame.camera_position.xyz, frame.camera_forward.xyz);
+  float coverage = !background && position.w < 0.5 * (kShadedSurface + kHoldoutSurface) ? 1.0 : 0.0;
+  float moved = background ? 0.0 : seen - h.previous_depth;  // (history's depths move as the point did)
+  imageStore(resolved_color, pixel, vec4(h.color.rgb, coverage));
+  imageStore(resolved_passes, pixel, vec4(min(seen, h.nearest + moved), h.shadow, float(pc.history_samples),
+                                          max(seen, h.farthest + moved)));
+}

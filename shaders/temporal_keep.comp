@@ -1,0 +1,43 @@
+#version 450
+#extension GL_GOOGLE_include_directive : require
+// Temporal reuse, before the shading of the first frame after a change: the
+// pixels whose history stands whatever this frame's sample would be
+// (settled_before_sample: still, beyond contact with what moved and out of
+// its shadow's way) are resolved here (history as it was), and take history
+// as their sample, marked kKeptSample: the shading passes skip them, the
+// resolve (temporal_resolve.comp) leaves them, and their neighbours' clip
+// and filter there see converged values in place of one noisy sample. In a
+// playback step with the camera still, most of the image is such pixels:
+// the step shades only where something changed.
+#include "shared.h"
+
+layout(local_size_x = 8, local_size_y = 8) in;
+layout(push_constant) uniform Push { TemporalPush pc; };
+layout(binding = 0, rgba32f) uniform readonly image2D g_position;
+layout(binding = 1, rgba32f) uniform readonly image2D g_motion;
+layout(binding = 2, rgba32f) uniform writeonly image2D accum_color;   // this frame's sample
+layout(binding = 3, rgba32f) uniform writeonly image2D accum_passes;  // z < 0 (kKeptSample): kept
+layout(binding = 4, rgba32f) uniform readonly image2D history_color;
+layout(binding = 5, rgba32f) uniform readonly image2D history_passes;
+layout(std430, binding = 6) readonly buffer Frame { FrameData frame; };
+layout(std430, binding = 7) readonly buffer Lights { GpuLight lights[]; };
+layout(binding = 8, rgba32f) uniform writeonly image2D resolved_color;
+layout(binding = 9, rgba32f) uniform writeonly image2D resolved_passes;
+#include "temporal_history.glsl.h"
+
+void main() {
+  ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
+  if (any(greaterThanEqual(pixel, pc.image_size))) return;
+  vec4 position = imageLoad(g_position, pixel);
+  History h = find_history(pixel, position);
+  if (!settled_before_sample(h)) {
+    imageStore(accum_passes, pixel, vec4(0.0));  // (shaded as usual)
+    return;
+  }
+  resolve_settled(pixel, position, h);
+  // (its sample, for its neighbours in the resolve; the passes as the shading would write them)
+  float seen = position.w > 0.0 ? dot(position.xyz - frame.camera_position.xyz, frame.camera_forward.xyz)
+                                : kNothingHitDepth;
+  imageStore(accum_color, pixel, h.color);
+  imageStore(accum_passes, pixel, vec4(seen, h.shadow, kKeptSample, seen));
+}
