@@ -435,6 +435,7 @@ void Renderer::begin(GpuScene& scene, const Camera& camera, const std::vector<Li
       frame_data_.previous_world_to_clip == world_to_clip_
           ? glm::mat4(1.0f)
           : glm::mat4(glm::dmat4(frame_data_.previous_world_to_clip) * glm::inverse(glm::dmat4(world_to_clip_)));
+  camera_stayed_ = frame_data_.steady_clip_to_previous_clip == glm::mat4(1.0f);
   frame_data_.previous_camera_position = drawn.camera_position;
   frame_data_.previous_camera_forward = drawn.camera_forward;
   std::vector<glm::mat4> transforms;
@@ -504,6 +505,7 @@ void Renderer::begin(GpuScene& scene, const Camera& camera, const std::vector<Li
   }
   if (method.visibility == gpu::kVisibilityRayTraced) push_.caster_offset = 0.0f;  // (rays start off the surface on their own)
   shadow_map_renders_ = 0;
+  history_frames_ = has_history_ ? frame_ : 0;
   frame_ = 0;
   if (!has_history_) sequence_ = 0;
   timings_.total_ms = ms_since(start);
@@ -547,9 +549,22 @@ void Renderer::add_frame() {
   timings_.shadow_map_ms += ms_since(maps);
 
   const Clock::time_point shading = Clock::now();
-  // Sub-pixel jitter (Halton 2,3 through the pixel filter) for anti-aliasing, averaged over frames.
-  const glm::vec2 jitter(pixel_filter_offset(halton(sequence_, 2), settings_.filter_width),
-                         pixel_filter_offset(halton(sequence_, 3), settings_.filter_width));
+  // Sub-pixel jitter (Halton 2,3 through the pixel filter) for anti-aliasing, averaged over frames; but
+  // a playback frame of the viewport is drawn at the pixel centres: the first after objects moved under a
+  // still camera, whose history was itself such a frame or a converged image. Where the move dropped
+  // history (a moved shadow, an uncovered background, the mover's outline) that frame's one sample is
+  // what the pixel shows, and a sample at the centre lies nearer the filtered pixel than a jittered one
+  // (which pays off only averaged). Not under a moving camera: every pixel takes this frame's sample, and
+  // a centred one each step would leave edges unfiltered for as long as it moves. Not in an animation
+  // render (history_samples set): its frames end after their few samples, and the same centre each frame
+  // would weigh in every frame written as several samples; the viewport's accumulation goes on after
+  // playback with jittered frames, and history's count is capped, so the centred ones fade.
+  const bool playback_frame = settings_.history_samples == 0 && (history_frames_ == 1 || history_frames_ >= settings_.samples);
+  const bool centred = has_history_ && frame_ == 0 && camera_stayed_ && playback_frame &&
+                       (frame_data_.changed_lo.w != 0.0f || frame_data_.moved_lo.w != 0.0f);
+  const glm::vec2 jitter = centred ? glm::vec2(0.0f)
+                                   : glm::vec2(pixel_filter_offset(halton(sequence_, 2), settings_.filter_width),
+                                               pixel_filter_offset(halton(sequence_, 3), settings_.filter_width));
   const glm::mat4 shift = glm::translate(glm::mat4(1.0f), glm::vec3(2.0f * jitter.x / float(width_),
                                                                    2.0f * jitter.y / float(height_), 0.0f));
   frame_data_.world_to_clip = shift * world_to_clip_;
@@ -567,7 +582,7 @@ void Renderer::add_frame() {
   // camera and the lighting as they were; otherwise no pixel would be),
   // and resolved with the sample after it.
   const bool resolves = has_history_ && frame_ == 0;
-  const bool keeps = resolves && same_lighting_ && frame_data_.steady_clip_to_previous_clip == glm::mat4(1.0f);
+  const bool keeps = resolves && same_lighting_ && camera_stayed_;
   push_.kept_history = keeps ? 1u : 0u;
   gpu::TemporalPush temporal{};
   temporal.image_size = glm::ivec2(width_, height_);

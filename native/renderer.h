@@ -298,6 +298,7 @@ class Renderer {
   bool has_casters_ = false;
   int width_ = 0, height_ = 0;
   int frame_ = 0;
+  int history_frames_ = 0;  // the frames the accumulation that history holds drew (0: no history)
   // The frame's index in the jitter sequences (pixel filter, shadow origins,
   // light samples): frame_ in a fresh accumulation, counted on where history
   // carries over, or every frame after a change would repeat sample 0.
@@ -324,6 +325,7 @@ class Renderer {
   // after a change is resolved into resolved_*, which then becomes accum_*.
   vk::Image history_color_, history_passes_, resolved_color_, resolved_passes_;
   bool has_history_ = false;      // this accumulation's first frame reprojects history
+  bool camera_stayed_ = false;    // the camera is where history saw it (or there is no history)
   bool same_lighting_ = false;    // the lights and the world are as history saw them (settled pixels may stay)
   uint64_t drawn_scene_id_ = 0;   // the scene, transforms and camera the last accumulation drew
   std::vector<glm::mat4> drawn_transforms_;

@@ -422,6 +422,55 @@ TEST_F(TemporalTest, AStillPixelBeyondContactWithWhatMovedStaysAsItWas) {
   EXPECT_GT(moving_change, 0.02) << "the moving cube's shadow moved";
 }
 
+// A viewport's playback frame (objects moved, the camera stayed, history
+// converged) is drawn at the pixel centres: where history was dropped its
+// one sample is what shows, and a centred one lies nearer the filtered
+// pixel. The G-buffer's depth of each ground pixel is then that of the ray
+// through the pixel's centre; the frame after it is jittered again.
+TEST_F(TemporalTest, APlaybackFrameIsDrawnAtThePixelCentres) {
+  GpuScene scene(context(), cube_over_ground());
+  Camera camera;  // (looking down at the ground at a slant: depth changes across each pixel)
+  camera.world_to_view = glm::lookAt(glm::vec3(0, -7, 2.5f), glm::vec3(0, 0, 0.5f), glm::vec3(0, 0, 1));
+  camera.projection = glm::infinitePerspectiveRH(0.8f, 1.0f, 0.1f);
+  Renderer renderer(context());
+  RenderSettings settings = playback_settings();
+  settings.samples = 4;
+  renderer.begin(scene, camera, {tilted_sun()}, glm::vec3(0.05f), kSize, kSize, settings, true);
+  for (int frame = 0; frame < settings.samples; ++frame) renderer.add_frame();
+  move_cube(scene, -0.45f);
+  renderer.begin(scene, camera, {tilted_sun()}, glm::vec3(0.05f), kSize, kSize, settings, true);
+  renderer.add_frame();
+  const std::vector<glm::vec4> playback = renderer.read_motion();
+  renderer.add_frame();
+  const std::vector<glm::vec4> next = renderer.read_motion();
+
+  // The depth along the view of the ground (z = 0) through a pixel's centre (rows top to bottom).
+  const glm::mat4 clip_to_world = glm::inverse(camera.projection * camera.world_to_view);
+  const glm::vec3 eye(0, -7, 2.5f), forward = glm::normalize(glm::vec3(0, 7, -2.0f));
+  auto centre_depth = [&](int x, int y) {
+    const glm::vec2 ndc((float(x) + 0.5f) / kSize * 2.0f - 1.0f, 1.0f - (float(y) + 0.5f) / kSize * 2.0f);
+    const glm::vec4 far_point = clip_to_world * glm::vec4(ndc, 0.5f, 1.0f);
+    const glm::vec3 ray = glm::normalize(glm::vec3(far_point) / far_point.w - eye);
+    return glm::dot(ray * (-eye.z / ray.z), forward);
+  };
+  double worst_playback = 0.0, most_next = 0.0;
+  int ground = 0;
+  for (int y = kSize / 2; y < kSize; y += 3)  // (the near half of the image: ground, away from the cube)
+    for (int x = 2; x < kSize / 4; x += 3) {
+      const size_t i = size_t(y) * kSize + size_t(x);
+      if (playback[i].w != 1.0f) continue;
+      const float expected = centre_depth(x, y);
+      worst_playback = std::max(worst_playback, double(std::abs(playback[i].z - expected) / expected));
+      most_next = std::max(most_next, double(std::abs(next[i].z - expected) / expected));
+      ground++;
+    }
+  std::printf("ground pixels %d: depth off the pixel centre's by up to %.2e (playback frame), %.2e (the next frame)\n",
+              ground, worst_playback, most_next);
+  ASSERT_GT(ground, 20);
+  EXPECT_LT(worst_playback, 1e-4);
+  EXPECT_GT(most_next, 1e-3) << "the frames after it are jittered";
+}
+
 // The background behind a still camera settles as the still surfaces do:
 // its motion comes from a matrix made in double precision, the identity
 // where the camera stayed. (Through an inverse in single precision it was a
