@@ -14,7 +14,7 @@ import os
 import sys
 
 import bpy
-from mathutils import Vector, geometry
+from mathutils import Vector
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from sample_scene import add_camera, add_ground, add_sun, finish, material, sun_rotation  # noqa: E402
@@ -58,29 +58,6 @@ def body_around(armature, radius):
     return body
 
 
-def bind_unweighted_to_nearest_bone(body, armature):
-    """Vertices that bone heat weighting left without any weight ("failed to
-    find solution for one or more bones": the Skin modifier's overlapping
-    tubes at the joints) stay at their rest place while the body moves, and
-    the faces between them and the rest stretch across the scene. Each is
-    bound to the deforming bone nearest to it in the rest pose, whose tube
-    it belongs to. Returns how many there were."""
-    bones = [(bone.name, armature.matrix_world @ bone.head_local, armature.matrix_world @ bone.tail_local)
-             for bone in armature.data.bones if bone.use_deform and (bone.tail_local - bone.head_local).length > 1e-4]
-
-    def distance(point, head, tail):
-        closest, along = geometry.intersect_point_line(point, head, tail)
-        return (point - (head if along <= 0.0 else tail if along >= 1.0 else closest)).length
-
-    unweighted = [v for v in body.data.vertices if sum(g.weight for g in v.groups) <= 1e-6]
-    for vertex in unweighted:
-        point = body.matrix_world @ vertex.co
-        name = min(bones, key=lambda bone: distance(point, bone[1], bone[2]))[0]
-        group = body.vertex_groups.get(name) or body.vertex_groups.new(name=name)
-        group.add([vertex.index], 1.0, "REPLACE")
-    return len(unweighted)
-
-
 def posed_bounds(body):
     """World bounds of the deformed body at the scene's first frame."""
     bpy.context.scene.frame_set(bpy.context.scene.frame_start)
@@ -118,9 +95,6 @@ def main():
         bpy.ops.object.parent_set(type="ARMATURE_ENVELOPE")
     if not any(m.type == "ARMATURE" for m in body.modifiers):
         sys.exit("make_character: the body could not be bound to the armature")
-    unweighted = bind_unweighted_to_nearest_bone(body, armature)
-    print(f"make_character: {unweighted} of {len(body.data.vertices)} vertices had no bone weight; "
-          "bound to their nearest bone")
 
     scene.frame_start, scene.frame_end = 1, frames
     # The motion's own root height: its first frame's feet on the ground.

@@ -428,13 +428,14 @@ void Renderer::begin(GpuScene& scene, const Camera& camera, const std::vector<Li
   world_to_clip_ = kGlToVulkan * camera.projection * camera.world_to_view;
   // Motion since the last accumulation: its camera, and each instance's transform then.
   frame_data_.steady_world_to_clip = world_to_clip_;
-  frame_data_.steady_clip_to_world = glm::mat4(glm::inverse(glm::dmat4(world_to_clip_)));
+  const glm::dmat4 clip_to_world = glm::inverse(glm::dmat4(world_to_clip_));
+  frame_data_.steady_clip_to_world = glm::mat4(clip_to_world);
   const gpu::FrameData& drawn = has_history_ ? drawn_frame_ : frame_data_;
   frame_data_.previous_world_to_clip = has_history_ ? drawn.steady_world_to_clip : world_to_clip_;
   frame_data_.steady_clip_to_previous_clip =
       frame_data_.previous_world_to_clip == world_to_clip_
           ? glm::mat4(1.0f)
-          : glm::mat4(glm::dmat4(frame_data_.previous_world_to_clip) * glm::inverse(glm::dmat4(world_to_clip_)));
+          : glm::mat4(glm::dmat4(frame_data_.previous_world_to_clip) * clip_to_world);
   camera_stayed_ = frame_data_.steady_clip_to_previous_clip == glm::mat4(1.0f);
   frame_data_.previous_camera_position = drawn.camera_position;
   frame_data_.previous_camera_forward = drawn.camera_forward;
@@ -559,7 +560,8 @@ void Renderer::add_frame() {
   // render (history_samples set): its frames end after their few samples, and the same centre each frame
   // would weigh in every frame written as several samples; the viewport's accumulation goes on after
   // playback with jittered frames, and history's count is capped, so the centred ones fade.
-  const bool playback_frame = settings_.history_samples == 0 && (history_frames_ == 1 || history_frames_ >= settings_.samples);
+  const bool playback_frame =
+      settings_.history_samples == 0 && (history_frames_ == 1 || history_frames_ >= settings_.samples);
   const bool centred = has_history_ && frame_ == 0 && camera_stayed_ && playback_frame &&
                        (frame_data_.changed_lo.w != 0.0f || frame_data_.moved_lo.w != 0.0f);
   const glm::vec2 jitter = centred ? glm::vec2(0.0f)
@@ -584,17 +586,7 @@ void Renderer::add_frame() {
   const bool resolves = has_history_ && frame_ == 0;
   const bool keeps = resolves && same_lighting_ && camera_stayed_;
   push_.kept_history = keeps ? 1u : 0u;
-  gpu::TemporalPush temporal{};
-  temporal.image_size = glm::ivec2(width_, height_);
-  temporal.light_count = light_count_;
-  temporal.history_samples = settings_.history_samples > 0 ? settings_.history_samples : settings_.samples;
-  temporal.clip = kTemporalClip;
-  temporal.moved_shadow_clip = kMovedShadowClip;
-  temporal.moved_shadow_samples = kMovedShadowSamples;
-  temporal.depth_tolerance = kReprojectedDepthTolerance;
-  // (the pixel filter's jitter reaches filter_width pixels either way)
-  temporal.jitter_reach = std::ceil(std::max(settings_.filter_width, 0.5f));
-  temporal.same_lighting = same_lighting_ ? 1u : 0u;
+  const gpu::TemporalPush temporal = resolves ? temporal_push() : gpu::TemporalPush{};
   const TemporalImages temporal_images{accum_color_,    accum_passes_,    history_color_,
                                        history_passes_, resolved_color_, resolved_passes_};
   auto compute_barrier = [](VkCommandBuffer cmd) {
@@ -636,6 +628,21 @@ void Renderer::add_frame() {
   timings_.total_ms += ms_since(start);
   frame_++;
   sequence_++;
+}
+
+gpu::TemporalPush Renderer::temporal_push() const {
+  gpu::TemporalPush temporal{};
+  temporal.image_size = glm::ivec2(width_, height_);
+  temporal.light_count = light_count_;
+  temporal.history_samples = settings_.history_samples > 0 ? settings_.history_samples : settings_.samples;
+  temporal.clip = kTemporalClip;
+  temporal.moved_shadow_clip = kMovedShadowClip;
+  temporal.moved_shadow_samples = kMovedShadowSamples;
+  temporal.depth_tolerance = kReprojectedDepthTolerance;
+  // (the pixel filter's jitter reaches filter_width pixels either way)
+  temporal.jitter_reach = std::ceil(std::max(settings_.filter_width, 0.5f));
+  temporal.same_lighting = same_lighting_ ? 1u : 0u;
+  return temporal;
 }
 
 std::vector<glm::vec4> Renderer::read_motion() const {

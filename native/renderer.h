@@ -276,6 +276,8 @@ class Renderer {
   // The fields' memory and bricks under `method` into stats_.
   void update_field_memory_stats(ShadowMethod method);
   FineTraceSettings fine_settings() const;
+  // The temporal passes' constants for this accumulation's settings and lights.
+  gpu::TemporalPush temporal_push() const;
 
   const vk::Context& context_;
   CoarseSdf coarse_;

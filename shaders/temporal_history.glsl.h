@@ -206,11 +206,17 @@ bool settled_before_sample(History h) {
   return !h.disoccluded && h.still && h.away && !h.shadow_may_move;
 }
 
+// The depth this frame sees at a G-buffer `position` (as the shading's Depth
+// pass has it: kNothingHitDepth where no surface is).
+float seen_depth(vec4 position) {
+  return position.w > 0.0 ? dot(position.xyz - frame.camera_position.xyz, frame.camera_forward.xyz) : kNothingHitDepth;
+}
+
 // A settled pixel's resolved accumulation: history as it was, with this
 // frame's coverage and depths (as the shading writes them in a first frame).
 void resolve_settled(ivec2 pixel, vec4 position, History h) {
   bool background = position.w <= 0.0;
-  float seen = background ? kNothingHitDepth : dot(position.xyz - frame.camera_position.xyz, frame.camera_forward.xyz);
+  float seen = seen_depth(position);
   float coverage = !background && position.w < 0.5 * (kShadedSurface + kHoldoutSurface) ? 1.0 : 0.0;
   float moved = background ? 0.0 : seen - h.previous_depth;  // (history's depths move as the point did)
   imageStore(resolved_color, pixel, vec4(h.color.rgb, coverage));

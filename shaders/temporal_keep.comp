@@ -36,8 +36,7 @@ void main() {
   }
   resolve_settled(pixel, position, h);
   // (its sample, for its neighbours in the resolve; the passes as the shading would write them)
-  float seen = position.w > 0.0 ? dot(position.xyz - frame.camera_position.xyz, frame.camera_forward.xyz)
-                                : kNothingHitDepth;
+  float seen = seen_depth(position);
   imageStore(accum_color, pixel, h.color);
   imageStore(accum_passes, pixel, vec4(seen, h.shadow, kKeptSample, seen));
 }

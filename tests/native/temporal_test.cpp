@@ -422,6 +422,31 @@ TEST_F(TemporalTest, AStillPixelBeyondContactWithWhatMovedStaysAsItWas) {
   EXPECT_GT(moving_change, 0.02) << "the moving cube's shadow moved";
 }
 
+namespace {
+// A camera looking down at the ground at a slant from behind the cube (no
+// far plane: the projection the add-on gives a Blender camera).
+const glm::vec3 kSlantedEye(0, -7, 2.5f), kSlantedTarget(0, 0, 0.5f);
+Camera slanted_view() {
+  Camera camera;
+  camera.world_to_view = glm::lookAt(kSlantedEye, kSlantedTarget, glm::vec3(0, 0, 1));
+  camera.projection = glm::infinitePerspectiveRH(0.8f, 1.0f, 0.1f);
+  return camera;
+}
+
+// Converges `renderer` (kConvergedSamples) on `scene` seen by `camera`,
+// moves the cube, and draws the first frame after the move.
+constexpr int kConvergedSamples = 4;
+void converge_then_move_cube(Renderer& renderer, GpuScene& scene, const Camera& camera) {
+  RenderSettings settings = playback_settings();
+  settings.samples = kConvergedSamples;
+  renderer.begin(scene, camera, {tilted_sun()}, glm::vec3(0.05f), kSize, kSize, settings, true);
+  for (int frame = 0; frame < settings.samples; ++frame) renderer.add_frame();
+  move_cube(scene, -0.45f);
+  renderer.begin(scene, camera, {tilted_sun()}, glm::vec3(0.05f), kSize, kSize, settings, true);
+  renderer.add_frame();
+}
+}  // namespace
+
 // A viewport's playback frame (objects moved, the camera stayed, history
 // converged) is drawn at the pixel centres: where history was dropped its
 // one sample is what shows, and a centred one lies nearer the filtered
@@ -429,24 +454,16 @@ TEST_F(TemporalTest, AStillPixelBeyondContactWithWhatMovedStaysAsItWas) {
 // through the pixel's centre; the frame after it is jittered again.
 TEST_F(TemporalTest, APlaybackFrameIsDrawnAtThePixelCentres) {
   GpuScene scene(context(), cube_over_ground());
-  Camera camera;  // (looking down at the ground at a slant: depth changes across each pixel)
-  camera.world_to_view = glm::lookAt(glm::vec3(0, -7, 2.5f), glm::vec3(0, 0, 0.5f), glm::vec3(0, 0, 1));
-  camera.projection = glm::infinitePerspectiveRH(0.8f, 1.0f, 0.1f);
+  const Camera camera = slanted_view();  // (depth changes across each ground pixel)
   Renderer renderer(context());
-  RenderSettings settings = playback_settings();
-  settings.samples = 4;
-  renderer.begin(scene, camera, {tilted_sun()}, glm::vec3(0.05f), kSize, kSize, settings, true);
-  for (int frame = 0; frame < settings.samples; ++frame) renderer.add_frame();
-  move_cube(scene, -0.45f);
-  renderer.begin(scene, camera, {tilted_sun()}, glm::vec3(0.05f), kSize, kSize, settings, true);
-  renderer.add_frame();
+  converge_then_move_cube(renderer, scene, camera);
   const std::vector<glm::vec4> playback = renderer.read_motion();
   renderer.add_frame();
   const std::vector<glm::vec4> next = renderer.read_motion();
 
   // The depth along the view of the ground (z = 0) through a pixel's centre (rows top to bottom).
   const glm::mat4 clip_to_world = glm::inverse(camera.projection * camera.world_to_view);
-  const glm::vec3 eye(0, -7, 2.5f), forward = glm::normalize(glm::vec3(0, 7, -2.0f));
+  const glm::vec3 eye = kSlantedEye, forward = glm::normalize(kSlantedTarget - kSlantedEye);
   auto centre_depth = [&](int x, int y) {
     const glm::vec2 ndc((float(x) + 0.5f) / kSize * 2.0f - 1.0f, 1.0f - (float(y) + 0.5f) / kSize * 2.0f);
     const glm::vec4 far_point = clip_to_world * glm::vec4(ndc, 0.5f, 1.0f);
@@ -480,17 +497,8 @@ TEST_F(TemporalTest, TheBackgroundSettlesBehindAStillCamera) {
   Scene scene_data = cube_over_ground();
   scene_data.meshes[1] = reference::sheet({-3, -3}, {3, 3}, 0.0f);  // (a ground that ends: sky above its far edge)
   GpuScene scene(context(), scene_data);
-  Camera camera;
-  camera.world_to_view = glm::lookAt(glm::vec3(0, -7, 2.5f), glm::vec3(0, 0, 0.5f), glm::vec3(0, 0, 1));
-  camera.projection = glm::infinitePerspectiveRH(0.8f, 1.0f, 0.1f);  // (no far plane: the projection the add-on gives a Blender camera)
   Renderer renderer(context());
-  RenderSettings settings = playback_settings();
-  settings.samples = 4;
-  renderer.begin(scene, camera, {tilted_sun()}, glm::vec3(0.05f), kSize, kSize, settings, true);
-  for (int frame = 0; frame < settings.samples; ++frame) renderer.add_frame();
-  move_cube(scene, -0.45f);
-  renderer.begin(scene, camera, {tilted_sun()}, glm::vec3(0.05f), kSize, kSize, settings, true);
-  renderer.add_frame();
+  converge_then_move_cube(renderer, scene, slanted_view());
   const RenderOutput out = renderer.read();
   // The left and right quarters of the image, far from the cube in the middle.
   int background = 0, edge = 0, unsettled = 0;
@@ -503,7 +511,7 @@ TEST_F(TemporalTest, TheBackgroundSettlesBehindAStillCamera) {
       if (!sky) continue;
       background++;
       if (beside_ground) edge++;
-      if (out.samples[i] != float(settings.samples)) unsettled++;
+      if (out.samples[i] != float(kConvergedSamples)) unsettled++;
     }
   std::printf("background pixels beside the cube: %d (%d on the horizon), not settled: %d\n", background, edge,
               unsettled);
