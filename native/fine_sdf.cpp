@@ -46,6 +46,14 @@ void FineSdf::allocate(const GridSpec& grid) {
   dispatch_ = vk::Buffer(context_, 8 * sizeof(uint32_t),
                          VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT,
                          vk::Buffer::Access::DeviceOnly);
+  const glm::ivec3 bricks = bricks_of(grid.dims);
+  const size_t brick_count = size_t(bricks.x) * bricks.y * bricks.z;
+  brick_state_ = vk::Buffer(context_, brick_count * 2 * sizeof(uint32_t),
+                            VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT, vk::Buffer::Access::DeviceOnly);
+  near_bricks_ = vk::Buffer(context_, (4 + brick_count) * sizeof(uint32_t),
+                            VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT |
+                                VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                            vk::Buffer::Access::DeviceOnly);
   vk::make_general(context_, {&distance_, &history_});
   grid_ = grid;
   frame_ = 0;
@@ -56,6 +64,8 @@ void FineSdf::release() {
   history_ = {};
   trace_list_ = {};
   dispatch_ = {};
+  brick_state_ = {};
+  near_bricks_ = {};
   grid_ = {};
   frame_ = 0;
 }
@@ -75,7 +85,8 @@ void FineSdf::update(const GpuScene::RayTargets& rays, const CoarseSdf& coarse, 
   context_.submit_and_wait([&](VkCommandBuffer cmd) {
     timer_.begin(cmd);
     pass_->record(cmd, rays,
-                  {coarse.grid(), coarse.distance(), coarse.beta_world(), grid_, distance_, history_, trace_list_, dispatch_},
+                  {coarse.grid(), coarse.distance(), coarse.beta_world(), grid_, distance_, history_, trace_list_, dispatch_,
+                   brick_state_, near_bricks_},
                   settings, {frame_, frame_ == 0, changed}, &timer_);
     vk::memory_barrier(cmd, VK_ACCESS_SHADER_WRITE_BIT, VK_ACCESS_TRANSFER_READ_BIT,
                        VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT);

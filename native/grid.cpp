@@ -10,6 +10,11 @@
 
 namespace rtsdf {
 
+glm::ivec3 bricks_of(glm::ivec3 dims) {
+  // The cells between texels, [0, dims - 2] per axis, 7 to a brick.
+  return glm::max(dims - 2, glm::ivec3(0)) / int(gpu::kBrickCells) + 1;
+}
+
 glm::mat4 GridSpec::world_to_voxel() const {
   return glm::scale(glm::mat4(1.0f), glm::vec3(1.0f / voxel_size)) * glm::translate(glm::mat4(1.0f), -origin);
 }

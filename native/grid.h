@@ -34,4 +34,8 @@ GridSpec fit_grid(const Bounds& bounds, int resolution);
 // (0: tight), so that it can stay for a while. A grid that stays keeps its fine SDF's history.
 GridSpec keep_or_fit_grid(const GridSpec* current, const Bounds& bounds, int resolution, float slack);
 
+// The bricks along each axis of a fine grid of `dims` texels (8^3 texels a
+// brick, sharing faces: see kBrickTexels in shaders/shared.h).
+glm::ivec3 bricks_of(glm::ivec3 dims);
+
 }  // namespace rtsdf

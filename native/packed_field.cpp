@@ -45,11 +45,6 @@ PackedField::PackedField(const vk::Context& context, std::shared_ptr<const Field
   std::memset(count_.mapped(), 0, sizeof(uint32_t));
 }
 
-glm::ivec3 PackedField::bricks_of(glm::ivec3 dims) {
-  // The cells between texels, [0, dims - 2] per axis, 7 to a brick.
-  return glm::max(dims - 2, glm::ivec3(0)) / int(gpu::kBrickCells) + 1;
-}
-
 void PackedField::set_layout(const GridSpec& grid, const GridSpec& far_grid, const Bounds& content, float room) {
   if (grid.origin != far_grid.origin || far_grid.voxel_size < grid.voxel_size)
     throw Error("PackedField: the far grid must share the grid's origin and have voxels at least as large");

@@ -69,8 +69,6 @@ class PackedField {
   size_t bytes() const { return size_t(words_.size()) + sizeof(uint32_t); }
   uint32_t stored_bricks() const { return stored_; }
   uint32_t brick_count() const { return uint32_t(bricks_.x) * bricks_.y * bricks_.z; }
-  // The bricks along each axis of a grid of `dims` texels.
-  static glm::ivec3 bricks_of(glm::ivec3 dims);
 
   // Every texel of the fine grid as the march reads it (x fastest): from its
   // brick where one is stored, else from the far field. For tools and tests.

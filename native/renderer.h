@@ -34,6 +34,7 @@ inline FineTraceSettings shading_fine_settings() {
   FineTraceSettings settings;
   settings.trace_band = 2.0f;
   settings.skip_converged = true;  // (the object fields of meshes that do not deform)
+  settings.near_surface_only = true;  // (the renderer's fields are packed for the march)
   return settings;
 }
 

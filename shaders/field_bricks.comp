@@ -11,6 +11,7 @@
 // a word; each invocation packs one row of 8. Slots past the store's room
 // are not written (the host sees the count, makes room and packs again).
 #include "shared.h"
+#include "brick_layout.glsl.h"
 
 layout(local_size_x = 64) in;
 layout(binding = 0, r32f) uniform readonly image3D coarse;
@@ -21,20 +22,14 @@ layout(push_constant) uniform Push { FieldPackPush pc; };
 shared uint in_band;
 shared uint slot;
 
-// The coarse voxel space's coordinate of a fine texel's centre.
-vec3 coarse_coordinate(ivec3 texel) {
-  return (pc.fine_grid.xyz + (vec3(texel) + 0.5) * pc.fine_grid.w - pc.coarse_grid.xyz) / pc.coarse_grid.w - 0.5;
-}
-
 void main() {
   ivec3 brick = ivec3(gl_WorkGroupID);
   uint local = gl_LocalInvocationIndex;
   ivec3 first = brick * int(kBrickCells), last = min(first + int(kBrickCells), pc.dims.xyz - 1);
   if (local == 0u) in_band = 0u;
   barrier();
-  ivec3 top = pc.coarse_dims.xyz - 1;
-  ivec3 lo = clamp(ivec3(floor(coarse_coordinate(first))), ivec3(0), top);
-  ivec3 hi = clamp(ivec3(floor(coarse_coordinate(last))) + 1, ivec3(0), top);
+  ivec3 lo, hi;
+  coarse_footprint(first, last, pc.fine_grid, pc.coarse_grid, pc.coarse_dims.xyz, lo, hi);
   ivec3 extent = hi - lo + 1;
   uint footprint = uint(extent.x * extent.y * extent.z);
   for (uint i = local; i < footprint; i += 64u) {

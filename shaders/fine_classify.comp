@@ -11,45 +11,86 @@
 // A still field (coarse_beta.z = 1) lists only the texels whose last trace
 // still found a closer surface (history.x, see fine_trace.comp): the rest
 // have converged, and tracing them again would change nothing.
+// A work group per brick near the band (listed by fine_bricks_near.comp)
+// classifies the texels it owns: no band texel lies in the other bricks, and
+// no packed field reads their far values (its far field holds them). Most
+// of a grid is such bricks, and a deforming mesh's field is classified anew
+// every frame.
 #include "shared.h"
 #include "seed_common.glsl.h"  // texel indices are packed like seeds
+#include "brick_layout.glsl.h"
 
-layout(local_size_x = RTSDF_GROUP_X, local_size_y = RTSDF_GROUP_Y, local_size_z = RTSDF_GROUP_Z) in;
+layout(local_size_x = 64) in;
 layout(binding = 0, r32f) uniform readonly image3D coarse;
 layout(binding = 1, r32f) uniform writeonly image3D fine;
 layout(binding = 2, rgba32f) uniform image3D history;  // see fine_trace.comp
 layout(std430, binding = 3) buffer TraceList { uint trace_count; uint trace_texels[]; };
+layout(std430, binding = 4) readonly buffer BrickState { uvec2 bricks[]; };  // see fine_bricks_near.comp
+layout(std430, binding = 5) readonly buffer NearBricks { uvec4 classify_groups; uint near_bricks[]; };
 layout(push_constant) uniform Push { FinePush pc; };
 
 #include "coarse_sample.glsl.h"
 
-void main() {
-  ivec3 p = ivec3(gl_GlobalInvocationID);
-  if (any(greaterThanEqual(p, pc.fine_dims.xyz))) return;
+struct TexelBricks {
+  uint owner;  // the first near brick of those holding the texel: the one whose group classifies it
+  uint flags;  // their flags (kBrickNear*), or'ed
+};
+
+// The bricks holding texel p: a texel on a brick's first face along an
+// axis is the last face of the brick before, too.
+TexelBricks texel_bricks(ivec3 p, ivec3 count) {
+  ivec3 brick = min(p / int(kBrickCells), count - 1);
+  ivec3 shared_face = ivec3(greaterThan(p, ivec3(0))) * ivec3(equal(p, brick * int(kBrickCells)));
+  TexelBricks bricks_of_p = TexelBricks(kNoBrick, 0u);
+  for (int k = 0; k < 8; ++k) {
+    ivec3 step = ivec3(k & 1, (k >> 1) & 1, k >> 2);
+    if (any(greaterThan(step, shared_face))) continue;
+    uint index = brick_index(brick - step, count), flags = bricks[index].y;
+    if (bricks_of_p.owner == kNoBrick && (flags & kBrickNearNow) != 0u) bricks_of_p.owner = index;
+    bricks_of_p.flags |= flags;
+  }
+  return bricks_of_p;
+}
+
+// `fresh`: the texel holds no history of this field (a first frame, or no
+// brick of it was classified in the last update).
+void classify(ivec3 p, bool fresh) {
   vec3 world = pc.fine_grid.xyz + (vec3(p) + 0.5) * pc.fine_grid.w;
   float c = sample_coarse(world);
   if (c <= pc.params.y) {
     // A fixed pseudo-random turn per texel spreads each frame's share evenly.
     uint turn = (uint(p.x) * 73856093u) ^ (uint(p.y) * 19349663u) ^ (uint(p.z) * 83492791u);
-    // The first frame traces every band texel: a field in which most texels
-    // were never traced has no signs, and shadows through solids come out half lit.
-    // After a change in part of the scene only texels near it are traced (on
-    // their turn); the rest keep their converged values.
+    // A fresh texel is traced whatever its turn: a field in which most
+    // texels were never traced has no signs, and shadows through solids
+    // come out half lit. After a change in part of the scene only texels
+    // near it are traced (on their turn); the rest keep their converged values.
     bool focused = pc.coarse_beta.y != 0.0;
     bool in_focus = all(greaterThanEqual(p, unpack_seed(pc.schedule.z))) && all(lessThanEqual(p, unpack_seed(pc.schedule.w)));
     bool my_turn = (turn + pc.schedule.y) % pc.schedule.x == 0u && (!focused || in_focus);
-    if (pc.coarse_beta.z != 0.0 && pc.coarse_dims.w == 0 && my_turn) my_turn = imageLoad(history, p).x != 0.0;
-    if (pc.coarse_dims.w != 0 || my_turn) {
+    if (pc.coarse_beta.z != 0.0 && !fresh && my_turn) my_turn = imageLoad(history, p).x != 0.0;
+    if (fresh || my_turn) {
       uint slot = atomicAdd(trace_count, 1u);
       trace_texels[slot] = pack_seed(p);
-    } else if (pc.coarse_dims.w != 0) {
-      // First frame, not traced yet: start from the same upper bound a traced texel starts from.
-      imageStore(fine, p, vec4(max(c + pc.params.z, 0.0)));
-      imageStore(history, p, vec4(0.0, 0.0, max(c + pc.params.z, 0.0), pc.params.w));
+      // (the trace reads history after a first frame: it starts here from
+      // the upper bound a first frame's trace starts from)
+      if (fresh && pc.coarse_dims.w == 0) imageStore(history, p, vec4(0.0, 0.0, max(c + pc.params.z, 0.0), pc.params.w));
     }
   } else {
     float far_field = c + pc.coarse_beta.x;
     imageStore(fine, p, vec4(far_field));
     imageStore(history, p, vec4(0.0, 0.0, far_field, pc.params.w));
+  }
+}
+
+void main() {
+  ivec3 count = bricks_of(pc.fine_dims.xyz);
+  uint index = near_bricks[gl_WorkGroupID.x];
+  ivec3 brick = ivec3(int(index) % count.x, (int(index) / count.x) % count.y, int(index) / (count.x * count.y));
+  ivec3 first = brick * int(kBrickCells);
+  for (uint i = gl_LocalInvocationIndex; i < kBrickTexels * kBrickTexels * kBrickTexels; i += 64u) {
+    ivec3 p = first + ivec3(i % kBrickTexels, (i / kBrickTexels) % kBrickTexels, i / (kBrickTexels * kBrickTexels));
+    if (any(greaterThanEqual(p, pc.fine_dims.xyz))) continue;
+    TexelBricks holding = texel_bricks(p, count);
+    if (holding.owner == index) classify(p, pc.coarse_dims.w != 0 || (holding.flags & kBrickNearBefore) == 0u);
   }
 }

@@ -95,7 +95,8 @@ struct FinePush {
                       // z, w = first and last texel (packed like seeds) of the focus box, see coarse_beta.y
   vec4 coarse_beta;   // x = beta (world): coarse value + beta = the distance between voxel and seed centres,
                       // y = 1: trace every band texel in the focus box and none elsewhere (after a local change),
-                      // z = 1: a still field, tracing only texels still improving
+                      // z = 1: a still field, tracing only texels still improving,
+                      // w = 1: only the bricks near the band are classified (fine_bricks_near.comp)
 };
 
 #define RTSDF_TRACE_GROUP 64

@@ -25,6 +25,11 @@ struct FineTraceSettings {
   // closer surface are traced again. Object fields only, and not where a
   // deforming mesh keeps its history.
   bool skip_converged = false;
+  // Only the texels of bricks near the band (those a packed field stores:
+  // field_bricks.comp) are classified and traced; the rest of the dense
+  // fine SDF keeps what it held. For fields that are packed for the march;
+  // off, the whole dense SDF is kept up to date (tools read it).
+  bool near_surface_only = false;
 
   // The band in world units on a coarse grid of `coarse_voxel`: texels whose
   // coarse distance is at most this are traced.
@@ -42,6 +47,8 @@ struct FineTraceFields {
   const vk::Image& history;
   const vk::Buffer& trace_list;  // a count and one packed texel per fine voxel
   const vk::Buffer& dispatch;    // the trace's indirect dispatch arguments, then the texels traced and improved
+  const vk::Buffer& brick_state;  // two words per brick (bricks_of the fine grid): see fine_bricks_near.comp
+  const vk::Buffer& near_bricks;  // the classify's indirect dispatch (4 words), then the near bricks' indices
 };
 
 // Which update this is: `frame` picks the ray set and the interleave turn;
@@ -62,6 +69,7 @@ class FineTracePass {
               const FineTraceSettings& settings, const FineTraceTurn& turn, vk::GpuTimer* timer) const;
 
  private:
+  vk::Pipeline bricks_near_;
   vk::Pipeline classify_;
   vk::Pipeline prepare_dispatch_;
   vk::Pipeline trace_;

@@ -73,6 +73,40 @@ TEST_F(PackedFieldTest, HoldsEveryTexelOfARealMeshInAQuarterOfTheDenseMemory) {
   EXPECT_LE(packed.bytes(), dense / 4);
 }
 
+// The renderer's fields classify and trace only the bricks near surfaces
+// (FineTraceSettings::near_surface_only): what they pack is the field a
+// whole-grid classify packs, texel for texel.
+TEST_F(PackedFieldTest, ClassifyingNearSurfacesOnlyPacksTheSameField) {
+  Scene scene = import_scene(testing::test_mesh_path());
+  GpuScene gpu_scene(context(), scene);
+  CoarseSdf coarse(context());
+  coarse.build(gpu_scene, fit_grid(gpu_scene.bounds(), 48), 0.5f);
+  const GridSpec grid = FineSdf::fit(coarse.grid(), 96);
+  FineTraceSettings whole_grid, near_surface_only;
+  whole_grid.interleave = near_surface_only.interleave = 2;
+  near_surface_only.near_surface_only = true;
+  FineSdf fine_whole(context()), fine_near(context());
+  uint32_t traced_whole = 0, traced_near = 0;
+  for (int frame = 0; frame < 3; ++frame) {
+    fine_whole.update(gpu_scene, coarse, grid, whole_grid);
+    fine_near.update(gpu_scene, coarse, grid, near_surface_only);
+    traced_whole += fine_whole.read_traced_texels();
+    traced_near += fine_near.read_traced_texels();
+  }
+  PackedField packed_whole(context()), packed_near(context());
+  pack(packed_whole, coarse, fine_whole, whole_grid);
+  pack(packed_near, coarse, fine_near, near_surface_only);
+  const std::vector<float> whole = packed_whole.read_texels(), near = packed_near.read_texels();
+  ASSERT_EQ(whole.size(), near.size());
+  size_t different = 0;
+  for (size_t i = 0; i < whole.size(); ++i) different += whole[i] != near[i];
+  std::printf("near surfaces only: %u of %u bricks stored, %zu of %zu texels differ; traced %u texels, the whole grid %u\n",
+              packed_near.stored_bricks(), packed_near.brick_count(), different, whole.size(), traced_near, traced_whole);
+  EXPECT_EQ(packed_near.stored_bricks(), packed_whole.stored_bricks());
+  EXPECT_EQ(different, 0u);
+  EXPECT_LE(traced_near, traced_whole);
+}
+
 TEST_F(PackedFieldTest, PacksAFieldWithBricksEverywhere) {
   // A lattice of small spheres fills the grid: bricks everywhere.
   Scene scene;
