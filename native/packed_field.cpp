@@ -61,6 +61,10 @@ void PackedField::set_layout(const GridSpec& grid, const GridSpec& far_grid, con
   far_grid_ = far_grid;
   if (same) return;
   bricks_ = bricks_of(grid.dims);
+  stored_bricks_ = vk::Buffer(context_, (4 + size_t(brick_count())) * sizeof(uint32_t),
+                              VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT |
+                                  VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                              vk::Buffer::Access::DeviceOnly);
   far_row_ = far_grid.dims.x + far_grid.dims.x % 2;
   far_first_ = gpu::kBrickTableFirst + brick_count();
   bricks_first_ = far_first_ + uint32_t(size_t(far_row_) * far_grid.dims.y * far_grid.dims.z / 2);
@@ -103,12 +107,14 @@ void PackedField::record_pack(VkCommandBuffer cmd, const Source& source) const {
   push.params = glm::vec4(source.band, source.far_offset, 0.0f, 0.0f);
   // The count starts at zero; without a fine SDF no brick is stored.
   vkCmdFillBuffer(cmd, words_.handle(), 0, sizeof(uint32_t), 0u);
+  const uint32_t no_groups[4] = {0u, 1u, 1u, 0u};
+  vkCmdUpdateBuffer(cmd, stored_bricks_.handle(), 0, sizeof no_groups, no_groups);
   if (!source.fine)
     vkCmdFillBuffer(cmd, words_.handle(), gpu::kBrickTableFirst * sizeof(uint32_t), brick_count() * sizeof(uint32_t),
                     gpu::kNoBrick);
   vk::memory_barrier(cmd, VK_ACCESS_TRANSFER_WRITE_BIT, VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT,
                      VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT);
-  pass_->record(cmd, push, *source.coarse, source.fine, bricks_);
+  pass_->record(cmd, push, *source.coarse, source.fine, bricks_, stored_bricks_);
   VkBufferCopy count{0, 0, sizeof(uint32_t)};
   vkCmdCopyBuffer(cmd, words_.handle(), count_.handle(), 1, &count);
   vk::memory_barrier(cmd, VK_ACCESS_TRANSFER_WRITE_BIT, VK_ACCESS_HOST_READ_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT,
@@ -141,6 +147,7 @@ void PackedField::pack(const vk::Context& context, const std::vector<Packing>& p
 
 void PackedField::release() {
   words_ = {};
+  stored_bricks_ = {};
   grid_ = far_grid_ = {};
   capacity_ = stored_ = 0;
   generation_++;

@@ -66,7 +66,7 @@ class PackedField {
   // Bumped whenever the words move to another address (placements must be redone).
   uint64_t generation() const { return generation_; }
 
-  size_t bytes() const { return size_t(words_.size()) + sizeof(uint32_t); }
+  size_t bytes() const { return size_t(words_.size() + stored_bricks_.size()) + sizeof(uint32_t); }
   uint32_t stored_bricks() const { return stored_; }
   uint32_t brick_count() const { return uint32_t(bricks_.x) * bricks_.y * bricks_.z; }
 
@@ -87,6 +87,7 @@ class PackedField {
   uint32_t far_first_ = 0, bricks_first_ = 0, capacity_ = 0, stored_ = 0;
   vk::Buffer words_;
   vk::Buffer count_;  // host-visible copy of word 0 after a pack
+  vk::Buffer stored_bricks_;  // a pack's list of the bricks it stores (FieldPackPass)
   uint64_t generation_ = 0;
 };
 

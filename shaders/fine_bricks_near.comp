@@ -1,6 +1,6 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
-// Fine SDF, step 0: which bricks of the packed field (field_bricks.comp) lie
+// Fine SDF, step 0: which bricks of the packed field (field_brick_slots.comp) lie
 // near the band this update, one invocation per brick; the near ones are
 // listed for the classify (fine_classify.comp). A brick is near when
 // a coarse texel that its texels' coarse samples read lies in the band (a

@@ -12,14 +12,16 @@ class FieldPackPass {
  public:
   explicit FieldPackPass(const vk::Context& context);
   // Writes the far field from `coarse` (coarse_dims) and, with `fine`, the
-  // bricks of `fine` (push.dims; one work group per brick of `bricks`).
-  // Word 0 of the store must be zero; the packed words are visible to
-  // compute shaders and transfers after it.
+  // bricks of `fine` (push.dims; `bricks` of them) near its surfaces,
+  // listed in `stored_bricks` (4 words, the first zero and the next two 1,
+  // then a word per brick). Word 0 of the store must be zero; the packed
+  // words are visible to compute shaders and transfers after it.
   void record(VkCommandBuffer cmd, const gpu::FieldPackPush& push, const vk::Image& coarse, const vk::Image* fine,
-              glm::ivec3 bricks) const;
+              glm::ivec3 bricks, const vk::Buffer& stored_bricks) const;
 
  private:
   vk::Pipeline far_;
+  vk::Pipeline slots_;
   vk::Pipeline bricks_;
 };
 

@@ -26,7 +26,7 @@ struct FineTraceSettings {
   // deforming mesh keeps its history.
   bool skip_converged = false;
   // Only the texels of bricks near the band (those a packed field stores:
-  // field_bricks.comp) are classified and traced; the rest of the dense
+  // field_brick_slots.comp) are classified and traced; the rest of the dense
   // fine SDF keeps what it held. For fields that are packed for the march;
   // off, the whole dense SDF is kept up to date (tools read it).
   bool near_surface_only = false;

@@ -1,0 +1,46 @@
+#version 450
+#extension GL_GOOGLE_include_directive : require
+#extension GL_EXT_buffer_reference : require
+#extension GL_EXT_buffer_reference_uvec2 : require
+// Packing a field, step 2: which bricks of the fine grid are stored, one
+// invocation per brick. A brick is stored if a coarse texel that its
+// texels' coarse samples read lies in the trace band (at most d): every
+// texel the fine SDF traced (a trilinear sample is never below all its
+// corners) and a few more. The other bricks hold the far field's values,
+// which the march reads from the far field instead. A stored brick takes
+// the next slot (word 0 counts them) and is listed for step 3
+// (field_bricks.comp); slots past the store's room are not listed (the host
+// sees the count, makes room and packs again). The brick table gets each
+// brick's slot, or kNoBrick.
+#include "shared.h"
+#include "brick_layout.glsl.h"
+
+layout(local_size_x = 64) in;
+layout(binding = 0, r32f) uniform readonly image3D coarse;
+// The listed bricks' table entries, and step 3's dispatch: a work group for each.
+layout(std430, binding = 1) buffer StoredBricks { uvec4 store_groups; uint stored_bricks[]; };
+layout(buffer_reference, std430, buffer_reference_align = 4) buffer FieldWords { uint words[]; };
+layout(push_constant) uniform Push { FieldPackPush pc; };
+
+bool in_band(ivec3 first, ivec3 last) {
+  ivec3 lo, hi;
+  coarse_footprint(first, last, pc.fine_grid, pc.coarse_grid, pc.coarse_dims.xyz, lo, hi);
+  for (int z = lo.z; z <= hi.z; ++z)
+    for (int y = lo.y; y <= hi.y; ++y)
+      for (int x = lo.x; x <= hi.x; ++x)
+        if (imageLoad(coarse, ivec3(x, y, z)).x <= pc.params.x) return true;
+  return false;
+}
+
+void main() {
+  ivec3 count = bricks_of(pc.dims.xyz);
+  uint entry = gl_GlobalInvocationID.x;
+  if (entry >= uint(count.x * count.y * count.z)) return;
+  ivec3 brick = ivec3(int(entry) % count.x, (int(entry) / count.x) % count.y, int(entry) / (count.x * count.y));
+  ivec3 first = brick * int(kBrickCells), last = min(first + int(kBrickCells), pc.dims.xyz - 1);
+  FieldWords store = FieldWords(pc.store.xy);
+  uint slot = in_band(first, last) ? atomicAdd(store.words[0], 1u) : kNoBrick;
+  bool room = slot < uint(pc.dims.w);
+  store.words[kBrickTableFirst + entry] = room ? slot : kNoBrick;
+  if (room) stored_bricks[atomicAdd(store_groups.x, 1u)] = entry;
+}
