@@ -394,6 +394,7 @@ void Renderer::begin(GpuScene& scene, const Camera& camera, const std::vector<Li
     frame_buffer_ = vk::Buffer(context_, sizeof(gpu::FrameData), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
                                vk::Buffer::Access::HostVisible);
   gbuffer_.resize(width, height);
+  temporal_.resize(glm::ivec2(width, height));
   shade_.resize(glm::ivec2(width, height), light_count_);
   // History: the accumulation so far, if it drew this scene at this size.
   has_history_ = settings.temporal_reuse && same_look && frame_ > 0 && accum_color_.handle() && width == width_ &&
@@ -586,7 +587,8 @@ void Renderer::add_frame() {
   const bool resolves = has_history_ && frame_ == 0;
   const bool keeps = resolves && same_lighting_ && camera_stayed_;
   push_.kept_history = keeps ? 1u : 0u;
-  const gpu::TemporalPush temporal = resolves ? temporal_push() : gpu::TemporalPush{};
+  gpu::TemporalPush temporal = resolves ? temporal_push() : gpu::TemporalPush{};
+  temporal.listed_tiles = keeps ? 1u : 0u;  // (the resolve runs where the keep pass left pixels)
   const TemporalImages temporal_images{accum_color_,    accum_passes_,    history_color_,
                                        history_passes_, resolved_color_, resolved_passes_};
   auto compute_barrier = [](VkCommandBuffer cmd) {

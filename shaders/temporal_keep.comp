@@ -11,7 +11,7 @@
 // the step shades only where something changed.
 #include "shared.h"
 
-layout(local_size_x = 8, local_size_y = 8) in;
+layout(local_size_x = kTemporalTile, local_size_y = kTemporalTile) in;  // (a work group per tile)
 layout(push_constant) uniform Push { TemporalPush pc; };
 layout(binding = 0, rgba32f) uniform readonly image2D g_position;
 layout(binding = 1, rgba32f) uniform readonly image2D g_motion;
@@ -23,6 +23,7 @@ layout(std430, binding = 6) readonly buffer Frame { FrameData frame; };
 layout(std430, binding = 7) readonly buffer Lights { GpuLight lights[]; };
 layout(binding = 8, rgba32f) uniform writeonly image2D resolved_color;
 layout(binding = 9, rgba32f) uniform writeonly image2D resolved_passes;
+layout(std430, binding = 10) buffer Tiles { uint tile_words[]; };
 #include "temporal_history.glsl.h"
 
 void main() {
@@ -32,6 +33,9 @@ void main() {
   History h = find_history(pixel, position);
   if (!settled_before_sample(h)) {
     imageStore(accum_passes, pixel, vec4(0.0));  // (shaded as usual)
+    // (its tile listed for the resolve, once)
+    uint tile = gl_WorkGroupID.x + uint(tiles_across()) * gl_WorkGroupID.y;
+    if (atomicExchange(tile_words[4u + tile], 1u) == 0u) tile_words[tile_list_first() + atomicAdd(tile_words[0], 1u)] = tile;
     return;
   }
   resolve_settled(pixel, position, h);

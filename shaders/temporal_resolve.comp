@@ -29,7 +29,7 @@
 // (accum_passes.z), up to history_samples of them.
 #include "shared.h"
 
-layout(local_size_x = 8, local_size_y = 8) in;
+layout(local_size_x = kTemporalTile, local_size_y = kTemporalTile) in;  // (a work group per tile)
 layout(push_constant) uniform Push { TemporalPush pc; };
 layout(binding = 0, rgba32f) uniform readonly image2D g_position;
 layout(binding = 1, rgba32f) uniform readonly image2D g_motion;
@@ -42,8 +42,9 @@ layout(std430, binding = 7) readonly buffer Lights { GpuLight lights[]; };
 // The resolved accumulation (the renderer takes it as accum_* from here on).
 layout(binding = 8, rgba32f) uniform writeonly image2D resolved_color;
 layout(binding = 9, rgba32f) uniform writeonly image2D resolved_passes;
-layout(binding = 10, rgba32f) uniform readonly image2D g_normal;
-layout(binding = 11, rgba32f) uniform readonly image2D g_albedo;
+layout(std430, binding = 10) readonly buffer Tiles { uint tile_words[]; };
+layout(binding = 11, rgba32f) uniform readonly image2D g_normal;
+layout(binding = 12, rgba32f) uniform readonly image2D g_albedo;
 #include "same_surface.glsl.h"
 #include "temporal_history.glsl.h"
 
@@ -95,7 +96,10 @@ vec3 filtered_sample(ivec2 pixel, vec3 p, vec3 current, inout float shadow) {
 }
 
 void main() {
-  ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
+  // Every tile, or those the keep pass listed: the rest it kept whole.
+  uint listed = pc.listed_tiles != 0u ? tile_words[tile_list_first() + gl_WorkGroupID.x] : 0u;
+  uvec2 tile = pc.listed_tiles != 0u ? uvec2(listed % uint(tiles_across()), listed / uint(tiles_across())) : gl_WorkGroupID.xy;
+  ivec2 pixel = ivec2(tile * kTemporalTile + gl_LocalInvocationID.xy);
   if (any(greaterThanEqual(pixel, pc.image_size))) return;
   vec4 passes = imageLoad(accum_passes, pixel);
   if (passes.z == kKeptSample) return;  // (settled, and resolved by the keep pass)

@@ -2,6 +2,7 @@
 
 #include "spirv/spirv_temporal_keep_comp.h"
 #include "spirv/spirv_temporal_resolve_comp.h"
+#include "error.h"
 
 namespace rtsdf {
 
@@ -11,12 +12,28 @@ constexpr VkDescriptorType kBuffer = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
 }  // namespace
 
 TemporalPass::TemporalPass(const vk::Context& context)
-    : keep_(context, RTSDF_SPIRV(spirv_temporal_keep_comp),
-            {kImage, kImage, kImage, kImage, kImage, kImage, kBuffer, kBuffer, kImage, kImage},
+    : context_(context),
+      keep_(context, RTSDF_SPIRV(spirv_temporal_keep_comp),
+            {kImage, kImage, kImage, kImage, kImage, kImage, kBuffer, kBuffer, kImage, kImage, kBuffer},
             uint32_t(sizeof(gpu::TemporalPush))),
       resolve_(context, RTSDF_SPIRV(spirv_temporal_resolve_comp),
-               {kImage, kImage, kImage, kImage, kImage, kImage, kBuffer, kBuffer, kImage, kImage, kImage, kImage},
+               {kImage, kImage, kImage, kImage, kImage, kImage, kBuffer, kBuffer, kImage, kImage, kBuffer, kImage,
+                kImage},
                uint32_t(sizeof(gpu::TemporalPush))) {}
+
+namespace {
+glm::ivec2 tiles_of(glm::ivec2 size) { return (size + int(gpu::kTemporalTile) - 1) / int(gpu::kTemporalTile); }
+}  // namespace
+
+void TemporalPass::resize(glm::ivec2 size) {
+  if (size == size_ && tiles_) return;
+  const glm::ivec2 tiles = tiles_of(size);
+  tiles_ = vk::Buffer(context_, (4 + 2 * size_t(tiles.x) * tiles.y) * sizeof(uint32_t),
+                      VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT |
+                          VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                      vk::Buffer::Access::DeviceOnly);
+  size_ = size;
+}
 
 namespace {
 // Bindings 0 to 9, the same in both passes: the G-buffer's position and
@@ -34,21 +51,39 @@ std::vector<vk::Resource> shared_bindings(const GBufferPass& gbuffer, const Temp
 void TemporalPass::record_keep(VkCommandBuffer cmd, const GBufferPass& gbuffer, const TemporalImages& images,
                                const vk::Buffer& frame, const vk::Buffer& lights,
                                const gpu::TemporalPush& push) const {
+  if (push.image_size != size_) throw Error("TemporalPass: resize to the image first");
+  // (no tile listed yet, and a dispatch of none)
+  const glm::ivec2 tiles = tiles_of(size_);
+  vkCmdFillBuffer(cmd, tiles_.handle(), 4 * sizeof(uint32_t), size_t(tiles.x) * tiles.y * sizeof(uint32_t), 0u);
+  const uint32_t no_groups[4] = {0u, 1u, 1u, 0u};
+  vkCmdUpdateBuffer(cmd, tiles_.handle(), 0, sizeof no_groups, no_groups);
+  vk::memory_barrier(cmd, VK_ACCESS_TRANSFER_WRITE_BIT, VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT,
+                     VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT);
+  std::vector<vk::Resource> bindings = shared_bindings(gbuffer, images, frame, lights);
+  bindings.push_back(vk::Resource::storage_buffer(tiles_));
   keep_.bind(cmd);
-  keep_.push_descriptors(cmd, shared_bindings(gbuffer, images, frame, lights));
+  keep_.push_descriptors(cmd, bindings);
   keep_.push_constants(cmd, push);
   vkCmdDispatch(cmd, vk::group_count(push.image_size.x, 8), vk::group_count(push.image_size.y, 8), 1);
 }
 
 void TemporalPass::record(VkCommandBuffer cmd, const GBufferPass& gbuffer, const TemporalImages& images,
                           const vk::Buffer& frame, const vk::Buffer& lights, const gpu::TemporalPush& push) const {
+  if (push.image_size != size_) throw Error("TemporalPass: resize to the image first");
   std::vector<vk::Resource> bindings = shared_bindings(gbuffer, images, frame, lights);
-  bindings.insert(bindings.end(),
-                  {vk::Resource::storage_image(gbuffer.normal()), vk::Resource::storage_image(gbuffer.albedo())});
+  bindings.insert(bindings.end(), {vk::Resource::storage_buffer(tiles_), vk::Resource::storage_image(gbuffer.normal()),
+                                   vk::Resource::storage_image(gbuffer.albedo())});
   resolve_.bind(cmd);
   resolve_.push_descriptors(cmd, bindings);
   resolve_.push_constants(cmd, push);
-  vkCmdDispatch(cmd, vk::group_count(push.image_size.x, 8), vk::group_count(push.image_size.y, 8), 1);
+  if (push.listed_tiles) {
+    vk::memory_barrier(cmd, VK_ACCESS_SHADER_WRITE_BIT, VK_ACCESS_INDIRECT_COMMAND_READ_BIT,
+                       VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT);
+    vkCmdDispatchIndirect(cmd, tiles_.handle(), 0);
+  } else {
+    const glm::ivec2 tiles = tiles_of(size_);
+    vkCmdDispatch(cmd, uint32_t(tiles.x), uint32_t(tiles.y), 1);
+  }
 }
 
 }  // namespace rtsdf

@@ -29,10 +29,13 @@ struct TemporalImages {
 class TemporalPass {
  public:
   explicit TemporalPass(const vk::Context& context);
+  // (Re)allocates the tile list for a width x height image.
+  void resize(glm::ivec2 size);
   // Before the shading (shaders/temporal_keep.comp): where history stands
   // whatever the new sample, it is resolved (images.resolved_*) and becomes
   // the sample (images.sample_*), marked for the shading and the resolve to
-  // skip (gpu::kKeptSample).
+  // skip (gpu::kKeptSample). The tiles holding pixels it did not keep are
+  // listed; with push.listed_tiles, the resolve runs on those alone.
   void record_keep(VkCommandBuffer cmd, const GBufferPass& gbuffer, const TemporalImages& images,
                    const vk::Buffer& frame, const vk::Buffer& lights, const gpu::TemporalPush& push) const;
   // After it (shaders/temporal_resolve.comp).
@@ -40,8 +43,11 @@ class TemporalPass {
               const vk::Buffer& lights, const gpu::TemporalPush& push) const;
 
  private:
+  const vk::Context& context_;
   vk::Pipeline keep_;
   vk::Pipeline resolve_;
+  glm::ivec2 size_{0};
+  vk::Buffer tiles_;  // see gpu::kTemporalTile
 };
 
 }  // namespace rtsdf
