@@ -13,7 +13,7 @@
 #define RTSDF_QUAD_PASS
 #include "shared.h"
 
-layout(local_size_x = 8, local_size_y = 8) in;
+layout(local_size_x = kQuadGroup, local_size_y = kQuadGroup) in;  // (a listed group per work group, see kept_tiles.glsl.h)
 #include "shade_inputs.glsl.h"
 
 // The world light at a quad's sample (origin: its march start, n: its normal).
@@ -45,7 +45,8 @@ void main() {
     imageStore(quad_samples, quad, vec4(n, sky_visibility(origin, n, receiver_voxel, march_jitter(pixel), pixel)));
     return;
   }
-  ivec2 quad = ivec2(gl_GlobalInvocationID.xy);
+  ivec2 quad = pc.kept_history == 1u ? listed_tile(quad_groups()) * int(kQuadGroup) + ivec2(gl_LocalInvocationID.xy)
+                                     : ivec2(gl_GlobalInvocationID.xy);
   if (any(greaterThanEqual(quad, quad_grid()))) return;
   int quad_index = quad.x + quad_grid().x * quad.y;
   ivec2 pixel = quad_sample_pixel(quad);

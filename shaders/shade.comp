@@ -18,7 +18,7 @@
 // says which pixels it shades and whether it marches (shade_inputs.glsl.h).
 #include "shared.h"
 
-layout(local_size_x = 8, local_size_y = 8) in;
+layout(local_size_x = kTemporalTile, local_size_y = kTemporalTile) in;  // (a listed tile per work group, see kept_tiles.glsl.h)
 #include "shade_inputs.glsl.h"  // the G-buffer, the frame, the lights, the fields, the march, the quad samples, the accumulation
 // The field view drawn in place of the image (kDebug*; as pc.field_view): a
 // constant, as the method is, since lavapipe pays for the views' code in
@@ -33,7 +33,8 @@ void main() {
   if (kShadeStage == kShadeFill) {
     if (!listed_for_this_pass(pixel)) return;
   } else {
-    pixel = ivec2(gl_GlobalInvocationID.xy);
+    pixel = pc.kept_history == 1u ? listed_tile(pixel_tiles()) * int(kTemporalTile) + ivec2(gl_LocalInvocationID.xy)
+                                  : ivec2(gl_GlobalInvocationID.xy);
     if (any(greaterThanEqual(pixel, pc.image_size))) return;
     if (kept_from_history(pixel)) return;  // (its sample is history's, written by the keep pass)
   }

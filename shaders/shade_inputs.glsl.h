@@ -48,6 +48,11 @@ layout(binding = 6, rgba32f) uniform image2D accum_color;   // rgb = Combined, a
 layout(binding = 7, rgba32f) uniform image2D accum_passes;
 #endif
 
+// With pc.kept_history, the tiles where the keep pass left pixels to shade:
+// the pixel and quad passes run on those alone.
+layout(std430, binding = 19) readonly buffer KeptTiles { uint tile_words[]; };
+#include "kept_tiles.glsl.h"
+
 // Whether the temporal keep pass (temporal_keep.comp) took this pixel's
 // history as this frame's sample: nothing of it is shaded.
 bool kept_from_history(ivec2 pixel) {

@@ -182,15 +182,13 @@ struct TemporalPush {
   float depth_tolerance;       // relative depth a reprojected surface may differ by
   float jitter_reach;          // the sub-pixel jitter's reach (whole pixels)
   uint same_lighting;          // 1: the lights and the world are as history saw them (pixels may settle)
-  uint listed_tiles;           // 1: the resolve runs on the tiles the keep pass listed (TemporalTiles)
+  uint listed_tiles;           // 1: the resolve runs on the tiles the keep pass listed (kept_tiles.glsl.h)
   uint pad1;
 };
-// The keep pass lists the tiles of kTemporalTile^2 pixels that hold a pixel
-// it did not keep, for the resolve to run on those alone (lavapipe runs a
-// shader's whole body, masked, for lanes that returned early). Words: the
-// resolve's indirect dispatch (4), then a flag per tile (listed), then the
-// list of tile indices (x + tiles across * y).
+// The keep pass lists the tiles of kTemporalTile^2 pixels and the groups of
+// kQuadGroup^2 quads where pixels it did not keep lie (kept_tiles.glsl.h).
 const uint kTemporalTile = 8u;
+const uint kQuadGroup = 8u;
 // The most samples history stands for where it matched a pixel's depth only
 // within the jitter's reach (temporal_resolve.comp).
 const float kNearbyHistorySamples = 3.0;

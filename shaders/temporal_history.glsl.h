@@ -7,14 +7,9 @@
 // (temporal_resolve.comp) decides the rest with the sample.
 // Needs: the TemporalPush `pc`, g_position, g_motion, history_color,
 // history_passes, resolved_color, resolved_passes, the Frame buffer `frame`,
-// the lights and the tile list `tile_words` (see kTemporalTile).
+// the lights and the tile lists `tile_words` (kept_tiles.glsl.h).
 #include "ray_box.glsl.h"
-
-// The tile list (kTemporalTile): tiles across, and where its list starts.
-int tiles_across() { return (pc.image_size.x + int(kTemporalTile) - 1) / int(kTemporalTile); }
-uint tile_list_first() {
-  return 4u + uint(tiles_across() * ((pc.image_size.y + int(kTemporalTile) - 1) / int(kTemporalTile)));
-}
+#include "kept_tiles.glsl.h"
 
 // Whether the paths from p to light l (a cone towards its disk) cross the
 // box of the casters that moved: the box grown by the cone's radius there,

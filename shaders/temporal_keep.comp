@@ -24,6 +24,7 @@ layout(std430, binding = 7) readonly buffer Lights { GpuLight lights[]; };
 layout(binding = 8, rgba32f) uniform writeonly image2D resolved_color;
 layout(binding = 9, rgba32f) uniform writeonly image2D resolved_passes;
 layout(std430, binding = 10) buffer Tiles { uint tile_words[]; };
+#define RTSDF_LISTS_TILES
 #include "temporal_history.glsl.h"
 
 void main() {
@@ -33,9 +34,7 @@ void main() {
   History h = find_history(pixel, position);
   if (!settled_before_sample(h)) {
     imageStore(accum_passes, pixel, vec4(0.0));  // (shaded as usual)
-    // (its tile listed for the resolve, once)
-    uint tile = gl_WorkGroupID.x + uint(tiles_across()) * gl_WorkGroupID.y;
-    if (atomicExchange(tile_words[4u + tile], 1u) == 0u) tile_words[tile_list_first() + atomicAdd(tile_words[0], 1u)] = tile;
+    list_tile(pixel_tiles(), ivec2(gl_WorkGroupID.xy));  // (for the pixel passes and the resolve)
     return;
   }
   resolve_settled(pixel, position, h);

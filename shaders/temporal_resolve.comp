@@ -97,9 +97,8 @@ vec3 filtered_sample(ivec2 pixel, vec3 p, vec3 current, inout float shadow) {
 
 void main() {
   // Every tile, or those the keep pass listed: the rest it kept whole.
-  uint listed = pc.listed_tiles != 0u ? tile_words[tile_list_first() + gl_WorkGroupID.x] : 0u;
-  uvec2 tile = pc.listed_tiles != 0u ? uvec2(listed % uint(tiles_across()), listed / uint(tiles_across())) : gl_WorkGroupID.xy;
-  ivec2 pixel = ivec2(tile * kTemporalTile + gl_LocalInvocationID.xy);
+  ivec2 tile = pc.listed_tiles != 0u ? listed_tile(pixel_tiles()) : ivec2(gl_WorkGroupID.xy);
+  ivec2 pixel = tile * int(kTemporalTile) + ivec2(gl_LocalInvocationID.xy);
   if (any(greaterThanEqual(pixel, pc.image_size))) return;
   vec4 passes = imageLoad(accum_passes, pixel);
   if (passes.z == kKeptSample) return;  // (settled, and resolved by the keep pass)

@@ -17,7 +17,7 @@ constexpr VkDescriptorType kBuffer = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
 // Every pass sees the same bindings (each reads those it needs).
 const std::vector<VkDescriptorType> kBindings = {kImage,  kImage,  kImage,  kBuffer, kBuffer, kBuffer, kImage,
                                                  kImage,  kImage,  kBuffer, kBuffer, kBuffer, kImage,  kBuffer,
-                                                 kBuffer, kBuffer, kBuffer, kBuffer, kBuffer};
+                                                 kBuffer, kBuffer, kBuffer, kBuffer, kBuffer, kBuffer};
 }  // namespace
 
 ShadePass::ShadePass(const vk::Context& context)
@@ -75,6 +75,22 @@ void ShadePass::record(VkCommandBuffer cmd, const ShadeInputs& in, const ShadeTa
   share_lights = share_lights && mode != gpu::kVisibilityShadowMaps && push.light_count > 0 &&
                  push.light_count <= kMaxSharedLights;
   const glm::ivec2 size = push.image_size;
+  const vk::Buffer* kept_tiles = push.kept_history ? in.kept_tiles : nullptr;
+  if (push.kept_history && !kept_tiles) throw Error("ShadePass: kept history needs the keep pass's tiles");
+  // The quad groups' list, then the pixel tiles' (shaders/kept_tiles.glsl.h), or the whole image.
+  const VkDeviceSize pixel_tiles = VkDeviceSize(vk::group_count(size.x, int(gpu::kTemporalTile))) *
+                                   vk::group_count(size.y, int(gpu::kTemporalTile));
+  if (kept_tiles)
+    vk::memory_barrier(cmd, VK_ACCESS_SHADER_WRITE_BIT, VK_ACCESS_INDIRECT_COMMAND_READ_BIT | VK_ACCESS_SHADER_READ_BIT,
+                       VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                       VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT | VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT);
+  auto dispatch = [&](glm::ivec2 groups, VkDeviceSize listed_at) {
+    if (kept_tiles) {
+      vkCmdDispatchIndirect(cmd, kept_tiles->handle(), listed_at * sizeof(uint32_t));
+    } else {
+      vkCmdDispatch(cmd, uint32_t(groups.x), uint32_t(groups.y), 1);
+    }
+  };
   const glm::ivec2 quads = (size + 1) / 2;
   const VkDeviceSize shared_bytes = sizeof(float) * VkDeviceSize(quads.x) * VkDeviceSize(quads.y) * push.light_count;
   if (size != size_ || (share_lights && quad_lights_.size() < shared_bytes))
@@ -94,7 +110,8 @@ void ShadePass::record(VkCommandBuffer cmd, const ShadeInputs& in, const ShadeTa
               vk::Resource::storage_buffer(rays ? rays->top_nodes : no_rays_),
               vk::Resource::storage_buffer(rays ? rays->instances : no_shadow_tiles_),
               vk::Resource::storage_buffer(rays ? rays->bottom_nodes : no_shadow_tiles_),
-              vk::Resource::storage_buffer(rays ? rays->triangles : no_shadow_tiles_)});
+              vk::Resource::storage_buffer(rays ? rays->triangles : no_shadow_tiles_),
+              vk::Resource::storage_buffer(kept_tiles ? *kept_tiles : no_shadow_tiles_)});
     pass.push_constants(cmd, push);
   };
   auto barrier = [&](VkAccessFlags dst_access, VkPipelineStageFlags dst_stage) {
@@ -114,7 +131,8 @@ void ShadePass::record(VkCommandBuffer cmd, const ShadeInputs& in, const ShadeTa
       barrier(VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT);
     }
     run(pipeline(Shader::Quad, mode, share_lights ? gpu::kShadeShared : gpu::kShadeFull, gpu::kDebugNone), sky_list_);
-    vkCmdDispatch(cmd, vk::group_count(quads.x, 8), vk::group_count(quads.y, 8), 1);
+    dispatch({vk::group_count(quads.x, int(gpu::kQuadGroup)), vk::group_count(quads.y, int(gpu::kQuadGroup))},
+             4 + 2 * pixel_tiles);
     if (sky_list) {
       barrier(list_access, list_stages);
       run(pipeline(Shader::Quad, mode, gpu::kShadeSkyList, gpu::kDebugNone), sky_list_);
@@ -125,7 +143,7 @@ void ShadePass::record(VkCommandBuffer cmd, const ShadeInputs& in, const ShadeTa
     if (timer) timer->mark(cmd, "quad");
   }
   run(pipeline(Shader::Shade, mode, share_lights ? gpu::kShadeShared : gpu::kShadeFull, push.field_view), fill_list_);
-  vkCmdDispatch(cmd, vk::group_count(size.x, 8), vk::group_count(size.y, 8), 1);
+  dispatch({vk::group_count(size.x, int(gpu::kTemporalTile)), vk::group_count(size.y, int(gpu::kTemporalTile))}, 0);
   if (share_lights) {
     barrier(list_access, list_stages);
     run(pipeline(Shader::Shade, mode, gpu::kShadeFill, push.field_view), fill_list_);

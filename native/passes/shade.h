@@ -32,6 +32,9 @@ struct ShadeInputs {
   const GpuScene::RayStructures* rays;
   const vk::Buffer& lights;
   const vk::Buffer& frame;
+  // With push.kept_history: the tiles where the keep pass left pixels to
+  // shade (TemporalPass::kept_tiles); the passes run there alone.
+  const vk::Buffer* kept_tiles;
 };
 
 // The running means it adds this frame's sample to.

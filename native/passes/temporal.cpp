@@ -1,8 +1,11 @@
 #include "passes/temporal.h"
 
-#include "spirv/spirv_temporal_keep_comp.h"
-#include "spirv/spirv_temporal_resolve_comp.h"
+#include <utility>
+
 #include "error.h"
+#include "spirv/spirv_temporal_keep_comp.h"
+#include "spirv/spirv_temporal_quad_groups_comp.h"
+#include "spirv/spirv_temporal_resolve_comp.h"
 
 namespace rtsdf {
 
@@ -16,19 +19,25 @@ TemporalPass::TemporalPass(const vk::Context& context)
       keep_(context, RTSDF_SPIRV(spirv_temporal_keep_comp),
             {kImage, kImage, kImage, kImage, kImage, kImage, kBuffer, kBuffer, kImage, kImage, kBuffer},
             uint32_t(sizeof(gpu::TemporalPush))),
+      quad_groups_(context, RTSDF_SPIRV(spirv_temporal_quad_groups_comp), {kBuffer}, uint32_t(sizeof(gpu::TemporalPush))),
       resolve_(context, RTSDF_SPIRV(spirv_temporal_resolve_comp),
                {kImage, kImage, kImage, kImage, kImage, kImage, kBuffer, kBuffer, kImage, kImage, kBuffer, kImage,
                 kImage},
                uint32_t(sizeof(gpu::TemporalPush))) {}
 
 namespace {
-glm::ivec2 tiles_of(glm::ivec2 size) { return (size + int(gpu::kTemporalTile) - 1) / int(gpu::kTemporalTile); }
+// The two lists' tiles (shaders/kept_tiles.glsl.h): pixel tiles, quad groups.
+size_t tile_count(glm::ivec2 size, int tile) {
+  const glm::ivec2 tiles = (size + tile - 1) / tile;
+  return size_t(tiles.x) * size_t(tiles.y);
+}
+size_t pixel_tiles(glm::ivec2 size) { return tile_count(size, int(gpu::kTemporalTile)); }
+size_t quad_groups(glm::ivec2 size) { return tile_count((size + 1) / 2, int(gpu::kQuadGroup)); }
 }  // namespace
 
 void TemporalPass::resize(glm::ivec2 size) {
   if (size == size_ && tiles_) return;
-  const glm::ivec2 tiles = tiles_of(size);
-  tiles_ = vk::Buffer(context_, (4 + 2 * size_t(tiles.x) * tiles.y) * sizeof(uint32_t),
+  tiles_ = vk::Buffer(context_, (8 + 2 * pixel_tiles(size) + 2 * quad_groups(size)) * sizeof(uint32_t),
                       VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT |
                           VK_BUFFER_USAGE_TRANSFER_DST_BIT,
                       vk::Buffer::Access::DeviceOnly);
@@ -52,11 +61,13 @@ void TemporalPass::record_keep(VkCommandBuffer cmd, const GBufferPass& gbuffer, 
                                const vk::Buffer& frame, const vk::Buffer& lights,
                                const gpu::TemporalPush& push) const {
   if (push.image_size != size_) throw Error("TemporalPass: resize to the image first");
-  // (no tile listed yet, and a dispatch of none)
-  const glm::ivec2 tiles = tiles_of(size_);
-  vkCmdFillBuffer(cmd, tiles_.handle(), 4 * sizeof(uint32_t), size_t(tiles.x) * tiles.y * sizeof(uint32_t), 0u);
+  // (no tile listed yet, and dispatches of none)
+  const size_t pixel_list = 0, quad_list = 4 + 2 * pixel_tiles(size_);
   const uint32_t no_groups[4] = {0u, 1u, 1u, 0u};
-  vkCmdUpdateBuffer(cmd, tiles_.handle(), 0, sizeof no_groups, no_groups);
+  for (const auto& [first, count] : {std::pair{pixel_list, pixel_tiles(size_)}, std::pair{quad_list, quad_groups(size_)}}) {
+    vkCmdUpdateBuffer(cmd, tiles_.handle(), first * sizeof(uint32_t), sizeof no_groups, no_groups);
+    vkCmdFillBuffer(cmd, tiles_.handle(), (first + 4) * sizeof(uint32_t), count * sizeof(uint32_t), 0u);
+  }
   vk::memory_barrier(cmd, VK_ACCESS_TRANSFER_WRITE_BIT, VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT,
                      VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT);
   std::vector<vk::Resource> bindings = shared_bindings(gbuffer, images, frame, lights);
@@ -64,7 +75,13 @@ void TemporalPass::record_keep(VkCommandBuffer cmd, const GBufferPass& gbuffer, 
   keep_.bind(cmd);
   keep_.push_descriptors(cmd, bindings);
   keep_.push_constants(cmd, push);
-  vkCmdDispatch(cmd, vk::group_count(push.image_size.x, 8), vk::group_count(push.image_size.y, 8), 1);
+  vkCmdDispatch(cmd, vk::group_count(size_.x, int(gpu::kTemporalTile)), vk::group_count(size_.y, int(gpu::kTemporalTile)), 1);
+  vk::memory_barrier(cmd, VK_ACCESS_SHADER_WRITE_BIT, VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT,
+                     VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT);
+  quad_groups_.bind(cmd);
+  quad_groups_.push_descriptors(cmd, {vk::Resource::storage_buffer(tiles_)});
+  quad_groups_.push_constants(cmd, push);
+  vkCmdDispatch(cmd, vk::group_count(int(quad_groups(size_)), 64), 1, 1);
 }
 
 void TemporalPass::record(VkCommandBuffer cmd, const GBufferPass& gbuffer, const TemporalImages& images,
@@ -81,8 +98,7 @@ void TemporalPass::record(VkCommandBuffer cmd, const GBufferPass& gbuffer, const
                        VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT);
     vkCmdDispatchIndirect(cmd, tiles_.handle(), 0);
   } else {
-    const glm::ivec2 tiles = tiles_of(size_);
-    vkCmdDispatch(cmd, uint32_t(tiles.x), uint32_t(tiles.y), 1);
+    vkCmdDispatch(cmd, vk::group_count(size_.x, int(gpu::kTemporalTile)), vk::group_count(size_.y, int(gpu::kTemporalTile)), 1);
   }
 }
 

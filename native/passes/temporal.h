@@ -41,10 +41,14 @@ class TemporalPass {
   // After it (shaders/temporal_resolve.comp).
   void record(VkCommandBuffer cmd, const GBufferPass& gbuffer, const TemporalImages& images, const vk::Buffer& frame,
               const vk::Buffer& lights, const gpu::TemporalPush& push) const;
+  // The lists of tiles where the last keep pass left pixels to shade (for
+  // ShadeInputs::kept_tiles; shaders/kept_tiles.glsl.h).
+  const vk::Buffer& kept_tiles() const { return tiles_; }
 
  private:
   const vk::Context& context_;
   vk::Pipeline keep_;
+  vk::Pipeline quad_groups_;  // (shaders/temporal_quad_groups.comp)
   vk::Pipeline resolve_;
   glm::ivec2 size_{0};
   vk::Buffer tiles_;  // see gpu::kTemporalTile
