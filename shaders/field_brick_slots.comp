@@ -22,24 +22,16 @@ layout(std430, binding = 1) buffer StoredBricks { uvec4 store_groups; uint store
 layout(buffer_reference, std430, buffer_reference_align = 4) buffer FieldWords { uint words[]; };
 layout(push_constant) uniform Push { FieldPackPush pc; };
 
-bool in_band(ivec3 first, ivec3 last) {
-  ivec3 lo, hi;
-  coarse_footprint(first, last, pc.fine_grid, pc.coarse_grid, pc.coarse_dims.xyz, lo, hi);
-  for (int z = lo.z; z <= hi.z; ++z)
-    for (int y = lo.y; y <= hi.y; ++y)
-      for (int x = lo.x; x <= hi.x; ++x)
-        if (imageLoad(coarse, ivec3(x, y, z)).x <= pc.params.x) return true;
-  return false;
-}
+#include "brick_near_band.glsl.h"
 
 void main() {
   ivec3 count = bricks_of(pc.dims.xyz);
   uint entry = gl_GlobalInvocationID.x;
   if (entry >= uint(count.x * count.y * count.z)) return;
-  ivec3 brick = ivec3(int(entry) % count.x, (int(entry) / count.x) % count.y, int(entry) / (count.x * count.y));
+  ivec3 brick = brick_at(entry, count);
   ivec3 first = brick * int(kBrickCells), last = min(first + int(kBrickCells), pc.dims.xyz - 1);
   FieldWords store = FieldWords(pc.store.xy);
-  uint slot = in_band(first, last) ? atomicAdd(store.words[0], 1u) : kNoBrick;
+  uint slot = brick_near_band(first, last, pc.params.x) ? atomicAdd(store.words[0], 1u) : kNoBrick;
   bool room = slot < uint(pc.dims.w);
   store.words[kBrickTableFirst + entry] = room ? slot : kNoBrick;
   if (room) stored_bricks[atomicAdd(store_groups.x, 1u)] = entry;

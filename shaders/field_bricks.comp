@@ -20,7 +20,7 @@ layout(push_constant) uniform Push { FieldPackPush pc; };
 void main() {
   ivec3 count = bricks_of(pc.dims.xyz);
   uint entry = stored_bricks[gl_WorkGroupID.x], local = gl_LocalInvocationIndex;
-  ivec3 brick = ivec3(int(entry) % count.x, (int(entry) / count.x) % count.y, int(entry) / (count.x * count.y));
+  ivec3 brick = brick_at(entry, count);
   FieldWords store = FieldWords(pc.store.xy);
   uint slot = store.words[kBrickTableFirst + entry];
   // Row `local` of the brick (y = local % 8, z = local / 8): 8 texels, 4 words.

@@ -19,23 +19,15 @@ layout(std430, binding = 1) buffer BrickState { uvec2 bricks[]; };
 layout(std430, binding = 2) buffer NearBricks { uvec4 classify_groups; uint near_bricks[]; };
 layout(push_constant) uniform Push { FinePush pc; };
 
-bool footprint_in_band(ivec3 first, ivec3 last) {
-  ivec3 lo, hi;
-  coarse_footprint(first, last, pc.fine_grid, pc.coarse_grid, pc.coarse_dims.xyz, lo, hi);
-  for (int z = lo.z; z <= hi.z; ++z)
-    for (int y = lo.y; y <= hi.y; ++y)
-      for (int x = lo.x; x <= hi.x; ++x)
-        if (imageLoad(coarse, ivec3(x, y, z)).x <= pc.params.y) return true;
-  return false;
-}
+#include "brick_near_band.glsl.h"
 
 void main() {
   ivec3 count = bricks_of(pc.fine_dims.xyz);
   uint index = gl_GlobalInvocationID.x;
   if (index >= uint(count.x * count.y * count.z)) return;
-  ivec3 brick = ivec3(int(index) % count.x, (int(index) / count.x) % count.y, int(index) / (count.x * count.y));
+  ivec3 brick = brick_at(index, count);
   ivec3 first = brick * int(kBrickCells), last = min(first + int(kBrickCells), pc.fine_dims.xyz - 1);
-  bool near = pc.coarse_beta.w == 0.0 || footprint_in_band(first, last);
+  bool near = pc.coarse_beta.w == 0.0 || brick_near_band(first, last, pc.params.y);
   // (x is 0 where no update marked it: the first update clears the buffer)
   uint last_near = bricks[index].x;
   bool near_before = pc.coarse_dims.w == 0 && last_near == pc.schedule.y;

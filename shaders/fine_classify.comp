@@ -85,7 +85,7 @@ void classify(ivec3 p, bool fresh) {
 void main() {
   ivec3 count = bricks_of(pc.fine_dims.xyz);
   uint index = near_bricks[gl_WorkGroupID.x];
-  ivec3 brick = ivec3(int(index) % count.x, (int(index) / count.x) % count.y, int(index) / (count.x * count.y));
+  ivec3 brick = brick_at(index, count);
   ivec3 first = brick * int(kBrickCells);
   for (uint i = gl_LocalInvocationIndex; i < kBrickTexels * kBrickTexels * kBrickTexels; i += 64u) {
     ivec3 p = first + ivec3(i % kBrickTexels, (i / kBrickTexels) % kBrickTexels, i / (kBrickTexels * kBrickTexels));
