@@ -164,6 +164,55 @@ TEST_F(TemporalTest, MovingCasterLeavesNoShadowTrailAfterTwoFrames) {
   EXPECT_LT(worst, 0.25) << "no pixel keeps much of the old shadow";
 }
 
+// The first frame after a move, under a still camera, shades only the
+// tiles where the keep pass left pixels (shaders/kept_tiles.glsl.h): in an
+// image whose size is no multiple of the tiles, every pixel is shaded or
+// kept (a tile left out keeps a mean of no samples: with the partial tiles
+// at the right edge left out of the list, the fewest samples were 0), and
+// the moved shadow reaching into the partial tiles at the right and bottom
+// edges is drawn there in that one frame.
+TEST_F(TemporalTest, APlaybackFrameShadesThePartialTilesAtTheImageEdges) {
+  constexpr int kWidth = 70, kHeight = 46;  // (8 x 8 tiles: 6 columns and 6 rows over)
+  const glm::mat4 moved = glm::translate(glm::mat4(1.0f), glm::vec3(1.2f, -1.6f, 0.0f));
+  GpuScene scene(context(), cube_over_ground());
+  Renderer renderer(context());
+  RenderSettings settings = playback_settings();
+  settings.samples = 8;
+  renderer.begin(scene, top_view(), {tilted_sun()}, glm::vec3(0.05f), kWidth, kHeight, settings, true);
+  for (int frame = 0; frame < settings.samples; ++frame) renderer.add_frame();
+  const std::vector<float> before = renderer.read().shadow;
+  scene.set_transforms({moved, glm::mat4(1.0f)});
+  renderer.begin(scene, top_view(), {tilted_sun()}, glm::vec3(0.05f), kWidth, kHeight, settings, true);
+  renderer.add_frame();
+  const RenderOutput out = renderer.read();
+  const std::vector<float>& played = out.shadow;
+  // (every pixel was shaded or kept: its mean stands for a sample at least)
+  float fewest_samples = 1e30f;
+  for (float samples : out.samples) fewest_samples = std::min(fewest_samples, samples);
+
+  GpuScene fresh_scene(context(), cube_over_ground());
+  fresh_scene.set_transforms({moved, glm::mat4(1.0f)});
+  Renderer fresh(context());
+  settings.temporal_reuse = false;
+  settings.samples = 32;
+  const std::vector<float> expected =
+      fresh.render(fresh_scene, top_view(), {tilted_sun()}, glm::vec3(0.05f), kWidth, kHeight, settings).shadow;
+  // The pixels of the partial tiles (the last columns and rows) that the move darkened.
+  int count = 0;
+  double worst = 0.0;
+  for (size_t i = 0; i < expected.size(); ++i) {
+    const bool edge = int(i % kWidth) >= 64 || int(i / kWidth) >= 40;
+    if (!edge || before[i] < 0.9f || expected[i] > 0.3f) continue;
+    ++count;
+    worst = std::max(worst, double(std::abs(played[i] - expected[i])));
+  }
+  std::printf("edge tiles the moved shadow reached: %d pixels, largest |played - fresh| %.3f; fewest samples %.0f\n",
+              count, worst, fewest_samples);
+  EXPECT_GE(fewest_samples, 1.0f);
+  ASSERT_GT(count, 20);
+  EXPECT_LT(worst, 0.3) << "the moved shadow is drawn in the partial tiles in its first frame";
+}
+
 // The pixels on a dark cube's silhouette against what lies behind it
 // (`behind`: a depth), rendered still, then played back as the cube moves
 // out of the view and four frames change nothing: the largest difference
