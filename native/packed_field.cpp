@@ -107,8 +107,7 @@ void PackedField::record_pack(VkCommandBuffer cmd, const Source& source) const {
   push.params = glm::vec4(source.band, source.far_offset, 0.0f, 0.0f);
   // The count starts at zero; without a fine SDF no brick is stored.
   vkCmdFillBuffer(cmd, words_.handle(), 0, sizeof(uint32_t), 0u);
-  const uint32_t no_groups[4] = {0u, 1u, 1u, 0u};
-  vkCmdUpdateBuffer(cmd, stored_bricks_.handle(), 0, sizeof no_groups, no_groups);
+  vk::clear_indirect_dispatch(cmd, stored_bricks_);
   if (!source.fine)
     vkCmdFillBuffer(cmd, words_.handle(), gpu::kBrickTableFirst * sizeof(uint32_t), brick_count() * sizeof(uint32_t),
                     gpu::kNoBrick);

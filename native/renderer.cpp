@@ -607,7 +607,8 @@ void Renderer::add_frame() {
     const bool march_sky = push_.visibility_mode != gpu::kVisibilityShadowMaps &&
                            glm::dot(glm::vec3(frame_data_.ambient), glm::vec3(frame_data_.ambient)) > 0.0f;
     const bool share_lights = settings_.quick_first_frame && frame_ == 0;
-    shade_.record(cmd, {gbuffer_, march_, shadow_maps, rays, light_buffer_, frame_buffer_, &temporal_.kept_tiles()},
+    const KeptTiles kept_tiles = temporal_.kept_tiles();
+    shade_.record(cmd, {gbuffer_, march_, shadow_maps, rays, light_buffer_, frame_buffer_, &kept_tiles},
                   {accum_color_, accum_passes_},
                   march_sky, share_lights, push_, &shading_timer_);
     shading_timer_.mark(cmd, "shade");

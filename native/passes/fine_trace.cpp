@@ -101,8 +101,7 @@ void FineTracePass::record(VkCommandBuffer cmd, const GpuScene::RayTargets& scen
   // returns at once as on a few loads, and most of a grid is far from its
   // surfaces (a deforming character: 14 ms of each frame's update, before).
   if (first_frame) vkCmdFillBuffer(cmd, fields.brick_state.handle(), 0, VK_WHOLE_SIZE, 0u);
-  const uint32_t no_groups[4] = {0u, 1u, 1u, 0u};
-  vkCmdUpdateBuffer(cmd, fields.near_bricks.handle(), 0, sizeof no_groups, no_groups);
+  vk::clear_indirect_dispatch(cmd, fields.near_bricks);
   compute_barrier(cmd);
   bricks_near_.bind(cmd);
   bricks_near_.push_descriptors(cmd, {vk::Resource::storage_image(coarse), vk::Resource::storage_buffer(fields.brick_state),

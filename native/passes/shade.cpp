@@ -75,18 +75,16 @@ void ShadePass::record(VkCommandBuffer cmd, const ShadeInputs& in, const ShadeTa
   share_lights = share_lights && mode != gpu::kVisibilityShadowMaps && push.light_count > 0 &&
                  push.light_count <= kMaxSharedLights;
   const glm::ivec2 size = push.image_size;
-  const vk::Buffer* kept_tiles = push.kept_history ? in.kept_tiles : nullptr;
+  const KeptTiles* kept_tiles = push.kept_history ? in.kept_tiles : nullptr;
   if (push.kept_history && !kept_tiles) throw Error("ShadePass: kept history needs the keep pass's tiles");
-  // The quad groups' list, then the pixel tiles' (shaders/kept_tiles.glsl.h), or the whole image.
-  const VkDeviceSize pixel_tiles = VkDeviceSize(vk::group_count(size.x, int(gpu::kTemporalTile))) *
-                                   vk::group_count(size.y, int(gpu::kTemporalTile));
   if (kept_tiles)
     vk::memory_barrier(cmd, VK_ACCESS_SHADER_WRITE_BIT, VK_ACCESS_INDIRECT_COMMAND_READ_BIT | VK_ACCESS_SHADER_READ_BIT,
                        VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
                        VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT | VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT);
+  // Over a list of the keep pass's tiles (at that offset), or the whole image.
   auto dispatch = [&](glm::ivec2 groups, VkDeviceSize listed_at) {
     if (kept_tiles) {
-      vkCmdDispatchIndirect(cmd, kept_tiles->handle(), listed_at * sizeof(uint32_t));
+      vkCmdDispatchIndirect(cmd, kept_tiles->buffer.handle(), listed_at);
     } else {
       vkCmdDispatch(cmd, uint32_t(groups.x), uint32_t(groups.y), 1);
     }
@@ -111,14 +109,13 @@ void ShadePass::record(VkCommandBuffer cmd, const ShadeInputs& in, const ShadeTa
               vk::Resource::storage_buffer(rays ? rays->instances : no_shadow_tiles_),
               vk::Resource::storage_buffer(rays ? rays->bottom_nodes : no_shadow_tiles_),
               vk::Resource::storage_buffer(rays ? rays->triangles : no_shadow_tiles_),
-              vk::Resource::storage_buffer(kept_tiles ? *kept_tiles : no_shadow_tiles_)});
+              vk::Resource::storage_buffer(kept_tiles ? kept_tiles->buffer : no_shadow_tiles_)});
     pass.push_constants(cmd, push);
   };
   auto barrier = [&](VkAccessFlags dst_access, VkPipelineStageFlags dst_stage) {
     vk::memory_barrier(cmd, VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT, dst_access,
                        VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT, dst_stage);
   };
-  const uint32_t empty_list[4] = {0u, 1u, 1u, 0u};  // no groups yet (x), 1 (y, z), nothing listed
   // (the passes over a list count its groups of 64, their 8 x 8, in its first word)
   const VkAccessFlags list_access =
       VK_ACCESS_INDIRECT_COMMAND_READ_BIT | VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT;
@@ -127,23 +124,24 @@ void ShadePass::record(VkCommandBuffer cmd, const ShadeInputs& in, const ShadeTa
     // The world light's cones that march are listed by the quad pass and marched by the sky pass.
     const bool sky_list = march_sky && mode != gpu::kVisibilityRayTraced;
     if (sky_list) {
-      vkCmdUpdateBuffer(cmd, sky_list_.handle(), 0, sizeof empty_list, empty_list);
+      vk::clear_indirect_dispatch(cmd, sky_list_);
       barrier(VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT);
     }
     run(pipeline(Shader::Quad, mode, share_lights ? gpu::kShadeShared : gpu::kShadeFull, gpu::kDebugNone), sky_list_);
     dispatch({vk::group_count(quads.x, int(gpu::kQuadGroup)), vk::group_count(quads.y, int(gpu::kQuadGroup))},
-             4 + 2 * pixel_tiles);
+             kept_tiles ? kept_tiles->quad_dispatch : 0);
     if (sky_list) {
       barrier(list_access, list_stages);
       run(pipeline(Shader::Quad, mode, gpu::kShadeSkyList, gpu::kDebugNone), sky_list_);
       vkCmdDispatchIndirect(cmd, sky_list_.handle(), 0);
     }
-    if (share_lights) vkCmdUpdateBuffer(cmd, fill_list_.handle(), 0, sizeof empty_list, empty_list);
+    if (share_lights) vk::clear_indirect_dispatch(cmd, fill_list_);
     barrier(VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT);
     if (timer) timer->mark(cmd, "quad");
   }
   run(pipeline(Shader::Shade, mode, share_lights ? gpu::kShadeShared : gpu::kShadeFull, push.field_view), fill_list_);
-  dispatch({vk::group_count(size.x, int(gpu::kTemporalTile)), vk::group_count(size.y, int(gpu::kTemporalTile))}, 0);
+  dispatch({vk::group_count(size.x, int(gpu::kTemporalTile)), vk::group_count(size.y, int(gpu::kTemporalTile))},
+           kept_tiles ? kept_tiles->pixel_dispatch : 0);
   if (share_lights) {
     barrier(list_access, list_stages);
     run(pipeline(Shader::Shade, mode, gpu::kShadeFill, push.field_view), fill_list_);

@@ -14,6 +14,7 @@
 #include "march_fields.h"
 #include "passes/gbuffer.h"
 #include "passes/shadow_map.h"
+#include "passes/temporal.h"
 #include "shaders/shared.h"
 #include "vk/pipeline.h"
 #include "vk/resources.h"
@@ -34,7 +35,7 @@ struct ShadeInputs {
   const vk::Buffer& frame;
   // With push.kept_history: the tiles where the keep pass left pixels to
   // shade (TemporalPass::kept_tiles); the passes run there alone.
-  const vk::Buffer* kept_tiles;
+  const KeptTiles* kept_tiles;
 };
 
 // The running means it adds this frame's sample to.

@@ -33,7 +33,13 @@ size_t tile_count(glm::ivec2 size, int tile) {
 }
 size_t pixel_tiles(glm::ivec2 size) { return tile_count(size, int(gpu::kTemporalTile)); }
 size_t quad_groups(glm::ivec2 size) { return tile_count((size + 1) / 2, int(gpu::kQuadGroup)); }
+// Each list's first word: its indirect dispatch, then a flag and a slot per tile.
+VkDeviceSize quad_list_first(glm::ivec2 size) { return 4 + 2 * pixel_tiles(size); }
 }  // namespace
+
+KeptTiles TemporalPass::kept_tiles() const {
+  return {tiles_, 0, quad_list_first(size_) * sizeof(uint32_t)};
+}
 
 void TemporalPass::resize(glm::ivec2 size) {
   if (size == size_ && tiles_) return;
@@ -62,10 +68,9 @@ void TemporalPass::record_keep(VkCommandBuffer cmd, const GBufferPass& gbuffer, 
                                const gpu::TemporalPush& push) const {
   if (push.image_size != size_) throw Error("TemporalPass: resize to the image first");
   // (no tile listed yet, and dispatches of none)
-  const size_t pixel_list = 0, quad_list = 4 + 2 * pixel_tiles(size_);
-  const uint32_t no_groups[4] = {0u, 1u, 1u, 0u};
-  for (const auto& [first, count] : {std::pair{pixel_list, pixel_tiles(size_)}, std::pair{quad_list, quad_groups(size_)}}) {
-    vkCmdUpdateBuffer(cmd, tiles_.handle(), first * sizeof(uint32_t), sizeof no_groups, no_groups);
+  for (const auto& [first, count] :
+       {std::pair{VkDeviceSize(0), pixel_tiles(size_)}, std::pair{quad_list_first(size_), quad_groups(size_)}}) {
+    vk::clear_indirect_dispatch(cmd, tiles_, first * sizeof(uint32_t));
     vkCmdFillBuffer(cmd, tiles_.handle(), (first + 4) * sizeof(uint32_t), count * sizeof(uint32_t), 0u);
   }
   vk::memory_barrier(cmd, VK_ACCESS_TRANSFER_WRITE_BIT, VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT,

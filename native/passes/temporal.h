@@ -17,6 +17,15 @@ namespace rtsdf {
 
 // The accumulations it resolves: this frame's sample (its first frame after
 // the change), the history from before the change, and where the result goes.
+// The lists of tiles where a keep pass left pixels to shade
+// (shaders/kept_tiles.glsl.h): the pixel tiles' and the quad groups'
+// indirect dispatches, at these byte offsets of `buffer`.
+struct KeptTiles {
+  const vk::Buffer& buffer;
+  VkDeviceSize pixel_dispatch;
+  VkDeviceSize quad_dispatch;
+};
+
 struct TemporalImages {
   const vk::Image& sample_color;
   const vk::Image& sample_passes;
@@ -42,8 +51,8 @@ class TemporalPass {
   void record(VkCommandBuffer cmd, const GBufferPass& gbuffer, const TemporalImages& images, const vk::Buffer& frame,
               const vk::Buffer& lights, const gpu::TemporalPush& push) const;
   // The lists of tiles where the last keep pass left pixels to shade (for
-  // ShadeInputs::kept_tiles; shaders/kept_tiles.glsl.h).
-  const vk::Buffer& kept_tiles() const { return tiles_; }
+  // ShadeInputs::kept_tiles).
+  KeptTiles kept_tiles() const;
 
  private:
   const vk::Context& context_;

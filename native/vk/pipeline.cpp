@@ -267,6 +267,11 @@ void Pipeline::push_constant_bytes(VkCommandBuffer cmd, const void* data, uint32
   vkCmdPushConstants(cmd, layout_, stages_, 0, bytes, data);
 }
 
+void clear_indirect_dispatch(VkCommandBuffer cmd, const Buffer& buffer, VkDeviceSize offset) {
+  const uint32_t no_groups[4] = {0u, 1u, 1u, 0u};
+  vkCmdUpdateBuffer(cmd, buffer.handle(), offset, sizeof no_groups, no_groups);
+}
+
 void dispatch_grid(VkCommandBuffer cmd, glm::ivec3 dims, glm::ivec3 group) {
   vkCmdDispatch(cmd, group_count(dims.x, group.x), group_count(dims.y, group.y), group_count(dims.z, group.z));
 }

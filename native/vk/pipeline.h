@@ -95,6 +95,11 @@ class Framebuffer {
 // Work groups needed to cover `count` items with groups of `group`.
 inline uint32_t group_count(int count, int group) { return uint32_t((count + group - 1) / group); }
 
+// Writes an indirect dispatch of no work groups (x = 0, y = z = 1, then a
+// zero word: the lists' count) at `offset` bytes of `buffer`, for a pass that
+// lists its work to fill in (a transfer: a barrier must follow).
+void clear_indirect_dispatch(VkCommandBuffer cmd, const Buffer& buffer, VkDeviceSize offset = 0);
+
 // Dispatches one invocation per voxel of a dims.x * dims.y * dims.z grid, in
 // work groups of the shape the shader declares.
 void dispatch_grid(VkCommandBuffer cmd, glm::ivec3 dims, glm::ivec3 group);
