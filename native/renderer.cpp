@@ -391,7 +391,7 @@ void Renderer::begin(GpuScene& scene, const Camera& camera, const std::vector<Li
   light_buffer_ = vk::upload_buffer(context_, gpu_lights.data(), gpu_lights.size() * sizeof(gpu::GpuLight),
                                     VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
   if (!frame_buffer_.handle())
-    frame_buffer_ = vk::Buffer(context_, sizeof(gpu::FrameData), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+    frame_buffer_ = vk::Buffer(context_, sizeof(gpu::FrameData), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT,
                                vk::Buffer::Access::HostVisible);
   gbuffer_.resize(width, height);
   temporal_.resize(glm::ivec2(width, height));
@@ -627,7 +627,7 @@ void Renderer::add_frame() {
   for (const vk::GpuTimer::Span& span : shading_timer_.read()) {
     (span.label == "gbuffer" ? timings_.gbuffer_gpu_ms : timings_.shade_gpu_ms) += span.ms;
     if (span.label == "quad") timings_.quad_gpu_ms += span.ms;
-    if (span.label == "keep" || span.label == "temporal") timings_.temporal_gpu_ms += span.ms;
+    if (span.label == "keep") timings_.temporal_gpu_ms += span.ms;
   }
   timings_.total_ms += ms_since(start);
   frame_++;

@@ -182,7 +182,8 @@ struct TemporalPush {
   float depth_tolerance;       // relative depth a reprojected surface may differ by
   float jitter_reach;          // the sub-pixel jitter's reach (whole pixels)
   uint same_lighting;          // 1: the lights and the world are as history saw them (pixels may settle)
-  uint listed_tiles;           // 1: the resolve runs on the tiles the keep pass listed (kept_tiles.glsl.h)
+  uint listed_tiles;           // 1: the resolve runs on the tiles the keep pass listed (kept_tiles.glsl.h), with
+                               // the History it handed on (its pipeline's kListedTiles)
   uint pad1;
 };
 // The keep pass lists the tiles of kTemporalTile^2 pixels and the groups of

@@ -207,6 +207,48 @@ bool settled_before_sample(History h) {
   return !h.disoccluded && h.still && h.away && !h.shadow_may_move;
 }
 
+// The keep pass hands each pixel it did not keep its History, in the
+// resolved images (free until the resolve writes them), so that the resolve
+// does not find it again: on lavapipe the search (four texels, their
+// neighbours, the light paths) ran in every lane of a listed tile, and where
+// few tiles were whole (a tree's canopy) the keep pass's search over
+// every pixel was a cost added to one the resolve paid again. The point's
+// depth from the last camera is the G-buffer motion's z, read again.
+const uint kHistoryDisoccluded = 1u, kHistoryFrontMoved = 2u, kHistoryStill = 4u, kHistoryAway = 8u,
+           kHistoryShadowMayMove = 16u;
+
+void hand_history_on(ivec2 pixel, History h) {
+  uint flags = (h.disoccluded ? kHistoryDisoccluded : 0u) | (h.front_moved ? kHistoryFrontMoved : 0u) |
+               (h.still ? kHistoryStill : 0u) | (h.away ? kHistoryAway : 0u) |
+               (h.shadow_may_move ? kHistoryShadowMayMove : 0u);
+  imageStore(resolved_color, pixel, vec4(h.color.rgb, float(flags)));
+  imageStore(resolved_passes, pixel, vec4(h.shadow, h.samples, h.nearest, h.farthest));
+}
+
+#ifdef RTSDF_TAKES_HISTORY
+// The History the keep pass handed on (hand_history_on); read before the
+// resolve writes those images.
+History handed_history(ivec2 pixel) {
+  vec4 color = imageLoad(resolved_color, pixel), passes = imageLoad(resolved_passes, pixel);
+  uint flags = uint(color.a);
+  History h;
+  h.disoccluded = (flags & kHistoryDisoccluded) != 0u;
+  h.color = vec4(color.rgb, 0.0);
+  h.shadow = passes.x;
+  h.samples = passes.y;
+  h.full_samples = 0.0;  // (only find_history's own test of `still` reads it)
+  h.nearest = passes.z;
+  h.farthest = passes.w;
+  h.previous_depth = imageLoad(g_motion, pixel).z;
+  h.on_ray = vec3(0.0);  // (likewise)
+  h.front_moved = (flags & kHistoryFrontMoved) != 0u;
+  h.still = (flags & kHistoryStill) != 0u;
+  h.away = (flags & kHistoryAway) != 0u;
+  h.shadow_may_move = (flags & kHistoryShadowMayMove) != 0u;
+  return h;
+}
+#endif
+
 // The depth this frame sees at a G-buffer `position` (as the shading's Depth
 // pass has it: kNothingHitDepth where no surface is).
 float seen_depth(vec4 position) {

@@ -19,7 +19,7 @@ layout(binding = 2, rgba32f) uniform writeonly image2D accum_color;   // this fr
 layout(binding = 3, rgba32f) uniform writeonly image2D accum_passes;  // z < 0 (kKeptSample): kept
 layout(binding = 4, rgba32f) uniform readonly image2D history_color;
 layout(binding = 5, rgba32f) uniform readonly image2D history_passes;
-layout(std430, binding = 6) readonly buffer Frame { FrameData frame; };
+layout(std140, binding = 6) uniform Frame { FrameData frame; };
 layout(std430, binding = 7) readonly buffer Lights { GpuLight lights[]; };
 layout(binding = 8, rgba32f) uniform writeonly image2D resolved_color;
 layout(binding = 9, rgba32f) uniform writeonly image2D resolved_passes;
@@ -34,6 +34,7 @@ void main() {
   History h = find_history(pixel, position);
   if (!settled_before_sample(h)) {
     imageStore(accum_passes, pixel, vec4(0.0));  // (shaded as usual)
+    hand_history_on(pixel, h);                   // (for the resolve)
     list_tile(pixel_tiles(), ivec2(gl_WorkGroupID.xy));  // (for the pixel passes and the resolve)
     return;
   }

@@ -37,16 +37,22 @@ layout(binding = 2, rgba32f) uniform readonly image2D accum_color;   // this fra
 layout(binding = 3, rgba32f) uniform readonly image2D accum_passes;  // x = Depth (nearest), y = Shadow, z = samples (1), w = farthest depth
 layout(binding = 4, rgba32f) uniform readonly image2D history_color;
 layout(binding = 5, rgba32f) uniform readonly image2D history_passes;
-layout(std430, binding = 6) readonly buffer Frame { FrameData frame; };
+layout(std140, binding = 6) uniform Frame { FrameData frame; };
 layout(std430, binding = 7) readonly buffer Lights { GpuLight lights[]; };
 // The resolved accumulation (the renderer takes it as accum_* from here on).
-layout(binding = 8, rgba32f) uniform writeonly image2D resolved_color;
-layout(binding = 9, rgba32f) uniform writeonly image2D resolved_passes;
+// (Listed tiles: they hold, until written, the History the keep pass handed on.)
+layout(binding = 8, rgba32f) uniform image2D resolved_color;
+layout(binding = 9, rgba32f) uniform image2D resolved_passes;
 layout(std430, binding = 10) readonly buffer Tiles { uint tile_words[]; };
 layout(binding = 11, rgba32f) uniform readonly image2D g_normal;
 layout(binding = 12, rgba32f) uniform readonly image2D g_albedo;
 #include "same_surface.glsl.h"
+#define RTSDF_TAKES_HISTORY
 #include "temporal_history.glsl.h"
+// 1: the keep pass ran; the resolve runs over the tiles it listed and takes
+// the History it handed on (a pipeline of its own: the search for history
+// is not compiled in).
+layout(constant_id = 0) const uint kListedTiles = 0u;
 
 vec3 to_ycocg(vec3 c) {
   return vec3(0.25 * c.r + 0.5 * c.g + 0.25 * c.b, 0.5 * c.r - 0.5 * c.b, -0.25 * c.r + 0.5 * c.g - 0.25 * c.b);
@@ -97,18 +103,18 @@ vec3 filtered_sample(ivec2 pixel, vec3 p, vec3 current, inout float shadow) {
 
 void main() {
   // Every tile, or those the keep pass listed: the rest it kept whole.
-  ivec2 tile = pc.listed_tiles != 0u ? listed_tile(pixel_tiles()) : ivec2(gl_WorkGroupID.xy);
+  ivec2 tile = kListedTiles == 1u ? listed_tile(pixel_tiles()) : ivec2(gl_WorkGroupID.xy);
   ivec2 pixel = tile * int(kTemporalTile) + ivec2(gl_LocalInvocationID.xy);
   if (any(greaterThanEqual(pixel, pc.image_size))) return;
   vec4 passes = imageLoad(accum_passes, pixel);
   if (passes.z == kKeptSample) return;  // (settled, and resolved by the keep pass)
   vec4 current = imageLoad(accum_color, pixel);
   vec4 position = imageLoad(g_position, pixel);
+  History h = kListedTiles == 1u ? handed_history(pixel) : find_history(pixel, position);
   imageStore(resolved_color, pixel, current);  // (where history cannot help: this sample alone)
   imageStore(resolved_passes, pixel, passes);
   bool background = position.w <= 0.0;
   bool surface = !background && position.w < 0.5 * (kShadedSurface + kHoldoutSurface);
-  History h = find_history(pixel, position);
 
   // This frame's sample and Shadow pass filtered (filtered_sample), but not
   // for a pixel settled whatever its shadow, most of a playback frame (one

@@ -12,18 +12,22 @@ namespace rtsdf {
 namespace {
 constexpr VkDescriptorType kImage = VK_DESCRIPTOR_TYPE_STORAGE_IMAGE;
 constexpr VkDescriptorType kBuffer = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+constexpr VkDescriptorType kUniform = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
+const std::vector<VkDescriptorType> kResolveBindings = {kImage,  kImage,  kImage,  kImage, kImage,
+                                                        kImage,  kUniform, kBuffer, kImage, kImage,
+                                                        kBuffer, kImage,  kImage};
 }  // namespace
 
 TemporalPass::TemporalPass(const vk::Context& context)
     : context_(context),
       keep_(context, RTSDF_SPIRV(spirv_temporal_keep_comp),
-            {kImage, kImage, kImage, kImage, kImage, kImage, kBuffer, kBuffer, kImage, kImage, kBuffer},
+            {kImage, kImage, kImage, kImage, kImage, kImage, kUniform, kBuffer, kImage, kImage, kBuffer},
             uint32_t(sizeof(gpu::TemporalPush))),
       quad_groups_(context, RTSDF_SPIRV(spirv_temporal_quad_groups_comp), {kBuffer}, uint32_t(sizeof(gpu::TemporalPush))),
-      resolve_(context, RTSDF_SPIRV(spirv_temporal_resolve_comp),
-               {kImage, kImage, kImage, kImage, kImage, kImage, kBuffer, kBuffer, kImage, kImage, kBuffer, kImage,
-                kImage},
-               uint32_t(sizeof(gpu::TemporalPush))) {}
+      resolve_(context, RTSDF_SPIRV(spirv_temporal_resolve_comp), kResolveBindings, uint32_t(sizeof(gpu::TemporalPush)),
+               {0u}),
+      resolve_listed_(context, RTSDF_SPIRV(spirv_temporal_resolve_comp), kResolveBindings,
+                      uint32_t(sizeof(gpu::TemporalPush)), {1u}) {}
 
 namespace {
 // The two lists' tiles (shaders/kept_tiles.glsl.h): pixel tiles, quad groups.
@@ -58,7 +62,7 @@ std::vector<vk::Resource> shared_bindings(const GBufferPass& gbuffer, const Temp
   return {vk::Resource::storage_image(gbuffer.position()),     vk::Resource::storage_image(gbuffer.motion()),
           vk::Resource::storage_image(images.sample_color),    vk::Resource::storage_image(images.sample_passes),
           vk::Resource::storage_image(images.history_color),   vk::Resource::storage_image(images.history_passes),
-          vk::Resource::storage_buffer(frame),                 vk::Resource::storage_buffer(lights),
+          vk::Resource::uniform_buffer(frame),                 vk::Resource::storage_buffer(lights),
           vk::Resource::storage_image(images.resolved_color),  vk::Resource::storage_image(images.resolved_passes)};
 }
 }  // namespace
@@ -95,9 +99,10 @@ void TemporalPass::record(VkCommandBuffer cmd, const GBufferPass& gbuffer, const
   std::vector<vk::Resource> bindings = shared_bindings(gbuffer, images, frame, lights);
   bindings.insert(bindings.end(), {vk::Resource::storage_buffer(tiles_), vk::Resource::storage_image(gbuffer.normal()),
                                    vk::Resource::storage_image(gbuffer.albedo())});
-  resolve_.bind(cmd);
-  resolve_.push_descriptors(cmd, bindings);
-  resolve_.push_constants(cmd, push);
+  const vk::Pipeline& resolve = push.listed_tiles ? resolve_listed_ : resolve_;
+  resolve.bind(cmd);
+  resolve.push_descriptors(cmd, bindings);
+  resolve.push_constants(cmd, push);
   if (push.listed_tiles) {
     vk::memory_barrier(cmd, VK_ACCESS_SHADER_WRITE_BIT, VK_ACCESS_INDIRECT_COMMAND_READ_BIT,
                        VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT);

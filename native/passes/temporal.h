@@ -58,7 +58,8 @@ class TemporalPass {
   const vk::Context& context_;
   vk::Pipeline keep_;
   vk::Pipeline quad_groups_;  // (shaders/temporal_quad_groups.comp)
-  vk::Pipeline resolve_;
+  vk::Pipeline resolve_;         // (finds each pixel's history)
+  vk::Pipeline resolve_listed_;  // (over the keep pass's list, taking the History it handed on)
   glm::ivec2 size_{0};
   vk::Buffer tiles_;  // see gpu::kTemporalTile
 };

@@ -112,6 +112,12 @@ Resource Resource::storage_buffer(const Buffer& buffer) {
   return r;
 }
 
+Resource Resource::uniform_buffer(const Buffer& buffer) {
+  Resource r{VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER};
+  r.buffer = {buffer.handle(), 0, VK_WHOLE_SIZE};
+  return r;
+}
+
 Pipeline::Pipeline(const Context& context, Spirv compute, std::vector<VkDescriptorType> bindings,
                    uint32_t push_bytes, const std::vector<uint32_t>& specialization)
     : bind_point_(VK_PIPELINE_BIND_POINT_COMPUTE) {
@@ -254,7 +260,7 @@ void Pipeline::push_descriptors(VkCommandBuffer cmd, const std::vector<Resource>
     write.dstBinding = binding++;
     write.descriptorCount = 1;
     write.descriptorType = r.type;
-    if (r.type == VK_DESCRIPTOR_TYPE_STORAGE_BUFFER)
+    if (r.type == VK_DESCRIPTOR_TYPE_STORAGE_BUFFER || r.type == VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER)
       write.pBufferInfo = &r.buffer;
     else
       write.pImageInfo = &r.image;

@@ -28,6 +28,7 @@ struct Resource {
   VkDescriptorBufferInfo buffer{};
   static Resource storage_image(const Image& image);
   static Resource storage_buffer(const Buffer& buffer);
+  static Resource uniform_buffer(const Buffer& buffer);
 };
 
 // Render targets of a graphics pipeline: colour formats (cleared to zero,
