@@ -17,7 +17,7 @@
 #include "shared.h"
 
 layout(push_constant) uniform Push { GBufferPush pc; };
-layout(std430, binding = 1) readonly buffer Frame { FrameData frame; };
+layout(std140, binding = 1) uniform Frame { FrameData frame; };
 layout(location = 0) in vec3 v_world;
 layout(location = 1) in vec3 v_smooth_normal;
 layout(location = 2) in vec4 v_steady_clip;

@@ -6,7 +6,7 @@
 #include "shared.h"
 
 layout(std430, binding = 0) readonly buffer Positions { float positions[]; };
-layout(std430, binding = 1) readonly buffer Frame { FrameData frame; };
+layout(std140, binding = 1) uniform Frame { FrameData frame; };
 layout(std430, binding = 2) readonly buffer Normals { float normals[]; };
 layout(std430, binding = 3) readonly buffer PreviousTransforms { mat4 previous_transforms[]; };
 layout(std430, binding = 4) readonly buffer Uvs { vec2 uvs[]; };

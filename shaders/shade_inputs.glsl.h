@@ -6,7 +6,7 @@ layout(binding = 0, rgba32f) uniform readonly image2D g_position;
 layout(binding = 1, rgba32f) uniform readonly image2D g_normal;
 layout(binding = 2, rgba32f) uniform readonly image2D g_albedo;
 layout(std430, binding = 4) readonly buffer Lights { GpuLight lights[]; };
-layout(std430, binding = 5) readonly buffer Frame { FrameData frame; };
+layout(std140, binding = 5) uniform Frame { FrameData frame; };
 layout(push_constant) uniform Push { ShadePush pc; };
 // The visibility this pipeline computes (kVisibility*; as pc.visibility_mode),
 // and its part of the shading (kShade*): constants, so that the compiler

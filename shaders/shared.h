@@ -115,7 +115,9 @@ struct GpuLight {
                    // w = 1 for a light that casts no shadow
 };
 
-// Per-frame camera data (a storage buffer, so push constants stay small).
+// Per-frame camera data (a uniform buffer, so push constants stay small: on
+// lavapipe a storage buffer's read costs every lane a gather, a uniform
+// buffer's one load).
 const uint kMaxSkyBlockers = 8u;
 
 struct FrameData {

@@ -11,12 +11,19 @@ namespace rtsdf {
 namespace {
 constexpr VkFormat kColor = VK_FORMAT_R32G32B32A32_SFLOAT;
 constexpr VkFormat kDepth = VK_FORMAT_D32_SFLOAT;
+// The scene's vertex and material buffers, and the frame (binding 1: a
+// uniform buffer, read alike by every vertex and fragment).
+const std::vector<VkDescriptorType> kBindings = [] {
+  std::vector<VkDescriptorType> bindings(9, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER);
+  bindings[1] = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
+  return bindings;
+}();
 }  // namespace
 
 GBufferPass::GBufferPass(const vk::Context& context)
     : context_(context),
       pipeline_(context, RTSDF_SPIRV(spirv_gbuffer_vert), RTSDF_SPIRV(spirv_gbuffer_frag),
-                std::vector<VkDescriptorType>(9, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER), sizeof(gpu::GBufferPush),
+                kBindings, sizeof(gpu::GBufferPush),
                 vk::RenderTargets{{kColor, kColor, kColor, kColor}, kDepth}) {}
 
 void GBufferPass::resize(int width, int height) {
@@ -54,7 +61,7 @@ void GBufferPass::record(VkCommandBuffer cmd, const GpuScene& scene, const vk::B
   vkCmdBindIndexBuffer(cmd, scene.indices().handle(), 0, VK_INDEX_TYPE_UINT32);
   pipeline_.bind(cmd);
   pipeline_.push_descriptors(
-      cmd, {vk::Resource::storage_buffer(scene.positions()), vk::Resource::storage_buffer(frame),
+      cmd, {vk::Resource::storage_buffer(scene.positions()), vk::Resource::uniform_buffer(frame),
             vk::Resource::storage_buffer(scene.normals()), vk::Resource::storage_buffer(previous_transforms),
             vk::Resource::storage_buffer(scene.uvs()), vk::Resource::storage_buffer(scene.vertex_materials()),
             vk::Resource::storage_buffer(scene.materials()), vk::Resource::storage_buffer(scene.texels()),

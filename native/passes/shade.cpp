@@ -14,8 +14,9 @@ namespace rtsdf {
 namespace {
 constexpr VkDescriptorType kImage = VK_DESCRIPTOR_TYPE_STORAGE_IMAGE;
 constexpr VkDescriptorType kBuffer = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+constexpr VkDescriptorType kUniform = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
 // Every pass sees the same bindings (each reads those it needs).
-const std::vector<VkDescriptorType> kBindings = {kImage,  kImage,  kImage,  kBuffer, kBuffer, kBuffer, kImage,
+const std::vector<VkDescriptorType> kBindings = {kImage,  kImage,  kImage,  kBuffer, kBuffer, kUniform, kImage,
                                                  kImage,  kImage,  kBuffer, kBuffer, kBuffer, kImage,  kBuffer,
                                                  kBuffer, kBuffer, kBuffer, kBuffer, kBuffer, kBuffer};
 }  // namespace
@@ -98,7 +99,7 @@ void ShadePass::record(VkCommandBuffer cmd, const ShadeInputs& in, const ShadeTa
     pass.push_descriptors(
         cmd, {vk::Resource::storage_image(gbuffer.position()), vk::Resource::storage_image(gbuffer.normal()),
               vk::Resource::storage_image(gbuffer.albedo()), vk::Resource::storage_buffer(fields.instances()),
-              vk::Resource::storage_buffer(in.lights), vk::Resource::storage_buffer(in.frame),
+              vk::Resource::storage_buffer(in.lights), vk::Resource::uniform_buffer(in.frame),
               vk::Resource::storage_image(out.accum_color), vk::Resource::storage_image(out.accum_passes),
               vk::Resource::storage_image(shadow_maps ? shadow_maps->moments() : no_shadow_atlas_),
               vk::Resource::storage_buffer(shadow_maps ? shadow_maps->tiles() : no_shadow_tiles_),
