@@ -37,7 +37,8 @@ bool within_box(vec3 p, vec4 lo, vec4 hi, float distance) {
 // Where a still pixel is in contact with what moved: within this share of
 // the changed box's size (its diagonal) of the box. There the sky it sees
 // changes fast with the motion (a contact shadow), and it is sampled anew as
-// a moving pixel is. Beyond it, the sky's change follows the moved object's
+// a moving pixel is (the resolve keeps its history where this frame's
+// neighbourhood holds it). Beyond it, the sky's change follows the moved object's
 // share of the hemisphere, which falls with the square of the distance.
 // Taking a new sample there each frame (up to a whole box size out) made
 // flicker: the new samples' noise showed more than the sky's change, and the
