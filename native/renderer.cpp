@@ -442,9 +442,7 @@ void Renderer::begin(GpuScene& scene, const Camera& camera, const std::vector<Li
   frame_data_.previous_camera_forward = drawn.camera_forward;
   std::vector<glm::mat4> transforms;
   for (const Instance& instance : scene.instances()) transforms.push_back(instance.object_to_world);
-  const std::vector<glm::mat4>& previous = has_history_ ? drawn_transforms_ : transforms;
-  previous_transforms_ = vk::upload_buffer(context_, previous.data(), previous.size() * sizeof(glm::mat4),
-                                           VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
+  previous_transforms_ = has_history_ ? drawn_transforms_ : transforms;
   if (has_history_ && scene_changed && last_changes_) {
     auto put = [](const Bounds& box, glm::vec4& lo, glm::vec4& hi) {
       lo = glm::vec4(box.lo, 1.0f), hi = glm::vec4(box.hi, 1.0f);

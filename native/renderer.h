@@ -333,7 +333,7 @@ class Renderer {
   uint64_t drawn_scene_id_ = 0;   // the scene, transforms and camera the last accumulation drew
   std::vector<glm::mat4> drawn_transforms_;
   gpu::FrameData drawn_frame_{};
-  vk::Buffer previous_transforms_;  // per instance, for the G-buffer's motion
+  std::vector<glm::mat4> previous_transforms_;  // per instance, for the G-buffer's motion
   std::optional<GpuScene::Changes> last_changes_;  // taken by the last rebuild_sdfs
 };
 

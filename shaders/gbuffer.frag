@@ -16,18 +16,16 @@
 // took 150 ms instead of 20 for the G-buffer of the 110k-triangle CAD sample.
 #include "shared.h"
 
+layout(constant_id = 0) const bool kMaterialInputs = true;  // (as in gbuffer.vert)
 layout(push_constant) uniform Push { GBufferPush pc; };
 layout(std140, binding = 1) uniform Frame { FrameData frame; };
 layout(location = 0) in vec3 v_world;
 layout(location = 1) in vec3 v_smooth_normal;
-layout(location = 2) in vec4 v_steady_clip;
-layout(location = 3) in vec4 v_previous_clip;
-layout(location = 4) in vec3 v_previous_world;
-layout(location = 5) in vec2 v_uv;
-layout(location = 6) flat in uint v_slot;
-layout(location = 7) in vec3 v_color;
-layout(std430, binding = 6) readonly buffer Materials { GpuMaterial materials[]; };
-layout(std430, binding = 7) readonly buffer Texels { uint texels[]; };
+layout(location = 2) in vec2 v_uv;
+layout(location = 3) flat in uint v_slot;
+layout(location = 4) in vec3 v_color;
+layout(std430, binding = 5) readonly buffer Materials { GpuMaterial materials[]; };
+layout(std430, binding = 6) readonly buffer Texels { uint texels[]; };
 layout(location = 0) out vec4 out_position;
 layout(location = 1) out vec4 out_normal;
 layout(location = 2) out vec4 out_albedo;
@@ -54,7 +52,7 @@ vec3 sample_image(GpuMaterial m, vec2 uv) {
 }
 
 vec3 base_color() {
-  if (pc.material_count == 0u) return pc.base_color.rgb;
+  if (!kMaterialInputs || pc.material_count == 0u) return pc.base_color.rgb;
   uint slot = min(v_slot, pc.material_count - 1u);
   GpuMaterial m = materials[pc.first_material + slot];
   if (m.width != 0u) return sample_image(m, v_uv);
@@ -68,8 +66,11 @@ void main() {
   vec3 face_normal = dot(face, face) > 0.0 ? normalize(face) : vec3(0.0, 0.0, 1.0);
   out_normal = vec4(smooth_length > 1e-6 ? v_smooth_normal / smooth_length : face_normal, 0.0);
   out_albedo = vec4(base_color(), pc.field_voxel);
-  vec2 now = v_steady_clip.xy / v_steady_clip.w;
-  vec2 before = v_previous_clip.xy / max(v_previous_clip.w, 1e-20);
-  float previous_depth = dot(v_previous_world - frame.previous_camera_position.xyz, frame.previous_camera_forward.xyz);
-  out_motion = vec4(before - now, previous_depth, v_previous_clip.w > 0.0 ? 1.0 : 0.0);
+  vec4 steady_clip = frame.steady_world_to_clip * vec4(v_world, 1.0);
+  vec3 previous_world = vec4(v_world, 1.0) * pc.world_to_previous_world;
+  vec4 previous_clip = frame.previous_world_to_clip * vec4(previous_world, 1.0);
+  vec2 now = steady_clip.xy / steady_clip.w;
+  vec2 before = previous_clip.xy / max(previous_clip.w, 1e-20);
+  float previous_depth = dot(previous_world - frame.previous_camera_position.xyz, frame.previous_camera_forward.xyz);
+  out_motion = vec4(before - now, previous_depth, previous_clip.w > 0.0 ? 1.0 : 0.0);
 }

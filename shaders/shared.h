@@ -16,6 +16,7 @@ using ivec2 = glm::ivec2;
 using ivec4 = glm::ivec4;
 using uvec4 = glm::uvec4;
 using mat4 = glm::mat4;
+using mat3x4 = glm::mat3x4;
 #endif
 
 // A seed voxel index packed as x | y << 10 | z << 20: grids are at most 1024 per axis.
@@ -154,13 +155,17 @@ struct FrameData {
 const float kShadedSurface = 1.0;
 const float kHoldoutSurface = 2.0;  // a holdout: shaded transparent black (0 where nothing is seen)
 
+// The G-buffer's transforms are affine, each as the three rows of its 3x4
+// matrix (the columns of a mat3x4: p' = vec4(p, 1) * rows), so that two of
+// them fit the 128 bytes of push constants every Vulkan device has.
 struct GBufferPush {
-  mat4 object_to_world;
+  mat3x4 object_to_world;
+  mat3x4 world_to_previous_world;  // where a point of this instance now was in the last frame (its motion)
   vec4 base_color;      // w = kShadedSurface or kHoldoutSurface; rgb where the instance has no materials
   float field_voxel;    // world size of a voxel of the field holding this surface (0: only a receiver, in no field)
-  uint instance;        // its index: previous_transforms[instance] placed it in the last frame
   uint first_material;  // its material slots in the scene's materials (the vertices give the slot)
-  uint material_count;  // 0: base_color everywhere
+  uint material_count;  // 0: base_color everywhere (and the pipeline without per-vertex material inputs)
+  uint unused;
 };
 
 // A material slot as the G-buffer reads it (Material, Texture in scene.h).
@@ -333,7 +338,7 @@ static_assert(sizeof(BvhNode) == 48, "BvhNode layout");
 static_assert(sizeof(WindingDipole) == 32, "WindingDipole layout");
 static_assert(sizeof(GpuLight) == 64, "GpuLight layout");
 static_assert(sizeof(FrameData) == 112 + 32 * kMaxSkyBlockers + 4 * 64 + 6 * 16, "FrameData layout");
-static_assert(sizeof(GBufferPush) == 96, "GBufferPush layout");
+static_assert(sizeof(GBufferPush) == 128, "GBufferPush layout");
 static_assert(sizeof(GpuMaterial) == 32, "GpuMaterial layout");
 static_assert(sizeof(ShadePush) == 96, "ShadePush layout");
 // (a vec2 sits on 8 bytes in GLSL's push-constant layout: its offset must agree)

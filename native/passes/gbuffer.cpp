@@ -1,5 +1,9 @@
 #include "passes/gbuffer.h"
 
+#include <cmath>
+#include <glm/gtc/matrix_access.hpp>
+#include <glm/gtc/matrix_transform.hpp>
+
 #include "shaders/shared.h"
 #include "spirv/spirv_gbuffer_frag.h"
 #include "spirv/spirv_gbuffer_vert.h"
@@ -14,17 +18,35 @@ constexpr VkFormat kDepth = VK_FORMAT_D32_SFLOAT;
 // The scene's vertex and material buffers, and the frame (binding 1: a
 // uniform buffer, read alike by every vertex and fragment).
 const std::vector<VkDescriptorType> kBindings = [] {
-  std::vector<VkDescriptorType> bindings(9, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER);
+  std::vector<VkDescriptorType> bindings(8, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER);
   bindings[1] = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
   return bindings;
 }();
+const vk::RenderTargets kTargets{{kColor, kColor, kColor, kColor}, kDepth};
+
+// An affine transform as GBufferPush holds it: the rows of its 3x4 matrix.
+glm::mat3x4 affine_rows(const glm::mat4& m) { return glm::mat3x4(glm::row(m, 0), glm::row(m, 1), glm::row(m, 2)); }
+
+// Where a point of an instance, placed by `now`, was when `before` placed
+// it. A transform that flattens the instance has no inverse: its motion is
+// then taken as its origin's.
+glm::mat4 world_to_previous_world(const glm::mat4& before, const glm::mat4& now) {
+  if (before == now) return glm::mat4(1.0f);
+  const glm::dmat4 now_d(now);
+  const double det = glm::determinant(glm::dmat3(now_d));
+  const double scale = glm::length(glm::dvec3(now_d[0])) * glm::length(glm::dvec3(now_d[1])) *
+                       glm::length(glm::dvec3(now_d[2]));
+  if (!(std::abs(det) > 1e-12 * scale)) return glm::translate(glm::mat4(1.0f), glm::vec3(before[3] - now[3]));
+  return glm::mat4(glm::dmat4(before) * glm::inverse(now_d));
+}
 }  // namespace
 
 GBufferPass::GBufferPass(const vk::Context& context)
     : context_(context),
-      pipeline_(context, RTSDF_SPIRV(spirv_gbuffer_vert), RTSDF_SPIRV(spirv_gbuffer_frag),
-                kBindings, sizeof(gpu::GBufferPush),
-                vk::RenderTargets{{kColor, kColor, kColor, kColor}, kDepth}) {}
+      one_color_(context, RTSDF_SPIRV(spirv_gbuffer_vert), RTSDF_SPIRV(spirv_gbuffer_frag), kBindings,
+                 sizeof(gpu::GBufferPush), kTargets, {0u}),
+      material_slots_(context, RTSDF_SPIRV(spirv_gbuffer_vert), RTSDF_SPIRV(spirv_gbuffer_frag), kBindings,
+                      sizeof(gpu::GBufferPush), kTargets, {1u}) {}
 
 void GBufferPass::resize(int width, int height) {
   if (width == width_ && height == height_) return;
@@ -36,19 +58,22 @@ void GBufferPass::resize(int width, int height) {
   motion_ = vk::Image::plane(context_, width, height, kColor, usage | VK_IMAGE_USAGE_TRANSFER_SRC_BIT);  // (read back for inspection)
   depth_ = vk::Image::plane(context_, width, height, kDepth, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT);
   framebuffer_ = std::make_unique<vk::Framebuffer>(
-      context_, pipeline_.render_pass(), uint32_t(width), uint32_t(height),
+      context_, one_color_.render_pass(), uint32_t(width), uint32_t(height),
       std::vector<VkImageView>{position_.view(), normal_.view(), albedo_.view(), motion_.view(), depth_.view()});
   width_ = width;
   height_ = height;
 }
 
 void GBufferPass::record(VkCommandBuffer cmd, const GpuScene& scene, const vk::Buffer& frame,
-                         const std::vector<float>& field_voxels, const vk::Buffer& previous_transforms) const {
+                         const std::vector<float>& field_voxels,
+                         const std::vector<glm::mat4>& previous_transforms) const {
   if (field_voxels.size() != scene.instances().size()) throw Error("GBufferPass: one field voxel per instance");
+  if (previous_transforms.size() != scene.instances().size())
+    throw Error("GBufferPass: one previous transform per instance");
   VkClearValue clears[5]{};
   clears[4].depthStencil = {1.0f, 0};
   VkRenderPassBeginInfo begin{VK_STRUCTURE_TYPE_RENDER_PASS_BEGIN_INFO};
-  begin.renderPass = pipeline_.render_pass();
+  begin.renderPass = one_color_.render_pass();
   begin.framebuffer = framebuffer_->handle();
   begin.renderArea = {{0, 0}, {uint32_t(width_), uint32_t(height_)}};
   begin.clearValueCount = 5;
@@ -59,26 +84,32 @@ void GBufferPass::record(VkCommandBuffer cmd, const GpuScene& scene, const vk::B
   vkCmdSetViewport(cmd, 0, 1, &viewport);
   vkCmdSetScissor(cmd, 0, 1, &scissor);
   vkCmdBindIndexBuffer(cmd, scene.indices().handle(), 0, VK_INDEX_TYPE_UINT32);
-  pipeline_.bind(cmd);
-  pipeline_.push_descriptors(
-      cmd, {vk::Resource::storage_buffer(scene.positions()), vk::Resource::uniform_buffer(frame),
-            vk::Resource::storage_buffer(scene.normals()), vk::Resource::storage_buffer(previous_transforms),
-            vk::Resource::storage_buffer(scene.uvs()), vk::Resource::storage_buffer(scene.vertex_materials()),
-            vk::Resource::storage_buffer(scene.materials()), vk::Resource::storage_buffer(scene.texels()),
-            vk::Resource::storage_buffer(scene.colors())});
+  const std::vector<vk::Resource> resources{
+      vk::Resource::storage_buffer(scene.positions()),        vk::Resource::uniform_buffer(frame),
+      vk::Resource::storage_buffer(scene.normals()),          vk::Resource::storage_buffer(scene.uvs()),
+      vk::Resource::storage_buffer(scene.vertex_materials()), vk::Resource::storage_buffer(scene.materials()),
+      vk::Resource::storage_buffer(scene.texels()),           vk::Resource::storage_buffer(scene.colors())};
+  const vk::Pipeline* bound = nullptr;
   for (size_t i = 0; i < scene.instances().size(); ++i) {
     const Instance& instance = scene.instances()[i];
     const GpuMeshRange& mesh = scene.meshes()[instance.mesh];
     if (mesh.triangle_count == 0 || !instance.visible_to_camera) continue;
     const glm::uvec2 slots = scene.material_range(uint32_t(i));
+    const vk::Pipeline& pipeline = slots.y == 0 ? one_color_ : material_slots_;
+    if (bound != &pipeline) {
+      pipeline.bind(cmd);
+      pipeline.push_descriptors(cmd, resources);
+      bound = &pipeline;
+    }
     gpu::GBufferPush push{};
-    push.object_to_world = instance.object_to_world;
+    push.object_to_world = affine_rows(instance.object_to_world);
+    push.world_to_previous_world =
+        affine_rows(world_to_previous_world(previous_transforms[i], instance.object_to_world));
     push.base_color = glm::vec4(scene.instance_color(uint32_t(i)), instance.holdout ? gpu::kHoldoutSurface : gpu::kShadedSurface);
     push.field_voxel = field_voxels[i];
-    push.instance = uint32_t(i);
     push.first_material = slots.x;
     push.material_count = slots.y;
-    pipeline_.push_constants(cmd, push);
+    pipeline.push_constants(cmd, push);
     vkCmdDrawIndexed(cmd, 3 * mesh.triangle_count, 1, mesh.first_index, int32_t(mesh.base_vertex), 0);
   }
   vkCmdEndRenderPass(cmd);

@@ -19,10 +19,10 @@ class GBufferPass {
   void resize(int width, int height);
   // `frame` holds one gpu::FrameData; `field_voxels`, per instance, the
   // world voxel size of the field holding it (0: in none), which the
-  // shading's receiver offsets are measured in. `previous_transforms`: one
-  // mat4 per instance, its object_to_world in the last frame (for motion).
+  // shading's receiver offsets are measured in. `previous_transforms`, per
+  // instance, its object_to_world in the last frame (for motion).
   void record(VkCommandBuffer cmd, const GpuScene& scene, const vk::Buffer& frame,
-              const std::vector<float>& field_voxels, const vk::Buffer& previous_transforms) const;
+              const std::vector<float>& field_voxels, const std::vector<glm::mat4>& previous_transforms) const;
 
   const vk::Image& position() const { return position_; }
   const vk::Image& normal() const { return normal_; }
@@ -31,7 +31,8 @@ class GBufferPass {
 
  private:
   const vk::Context& context_;
-  vk::Pipeline pipeline_;
+  // Instances of one plain colour, and those whose material slots are read per vertex.
+  vk::Pipeline one_color_, material_slots_;
   int width_ = 0, height_ = 0;
   vk::Image position_, normal_, albedo_, motion_, depth_;
   std::unique_ptr<vk::Framebuffer> framebuffer_;

@@ -137,11 +137,13 @@ Pipeline::Pipeline(const Context& context, Spirv compute, std::vector<VkDescript
 }
 
 Pipeline::Pipeline(const Context& context, Spirv vertex, Spirv fragment, std::vector<VkDescriptorType> bindings,
-                   uint32_t push_bytes, const RenderTargets& targets)
+                   uint32_t push_bytes, const RenderTargets& targets, const std::vector<uint32_t>& specialization)
     : bind_point_(VK_PIPELINE_BIND_POINT_GRAPHICS) {
-  std::vector<uint32_t> target_words(targets.colors.begin(), targets.colors.end());
-  target_words.push_back(uint32_t(targets.depth));
-  adopt(context.shared(pipeline_key({vertex, fragment}, bindings, push_bytes, target_words), [&] {
+  std::vector<uint32_t> key_words{uint32_t(targets.colors.size())};
+  key_words.insert(key_words.end(), targets.colors.begin(), targets.colors.end());
+  key_words.push_back(uint32_t(targets.depth));
+  key_words.insert(key_words.end(), specialization.begin(), specialization.end());
+  adopt(context.shared(pipeline_key({vertex, fragment}, bindings, push_bytes, key_words), [&] {
     auto objects = std::make_shared<PipelineObjects>(context.device());
     const VkDevice device = objects->device;
     create_layout(*objects, bindings, push_bytes, VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT);
@@ -195,6 +197,10 @@ Pipeline::Pipeline(const Context& context, Spirv vertex, Spirv fragment, std::ve
     ShaderModule vs(device, vertex), fs(device, fragment);
     VkPipelineShaderStageCreateInfo stages[] = {stage_info(VK_SHADER_STAGE_VERTEX_BIT, vs),
                                                 stage_info(VK_SHADER_STAGE_FRAGMENT_BIT, fs)};
+    std::vector<VkSpecializationMapEntry> entries;
+    const VkSpecializationInfo constants = specialization_info(specialization, entries);
+    if (!specialization.empty())
+      for (VkPipelineShaderStageCreateInfo& stage : stages) stage.pSpecializationInfo = &constants;
     VkPipelineVertexInputStateCreateInfo vertex_input{VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO};
     VkPipelineInputAssemblyStateCreateInfo assembly{VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO};
     assembly.topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST;

@@ -50,9 +50,10 @@ class Pipeline {
            const std::vector<uint32_t>& specialization = {});
   // A graphics pipeline drawing triangle lists (no vertex buffers: shaders
   // pull vertices from storage buffers, no culling) into `targets`. Viewport
-  // and scissor are dynamic.
+  // and scissor are dynamic. `specialization` as above, for both stages.
+  // Pipelines of the same targets can draw in one another's render passes.
   Pipeline(const Context& context, Spirv vertex, Spirv fragment, std::vector<VkDescriptorType> bindings,
-           uint32_t push_bytes, const RenderTargets& targets = {});
+           uint32_t push_bytes, const RenderTargets& targets = {}, const std::vector<uint32_t>& specialization = {});
   Pipeline(const Pipeline&) = delete;
   Pipeline& operator=(const Pipeline&) = delete;
 

@@ -124,6 +124,64 @@ TEST_F(TemporalTest, ReprojectionFollowsATranslatingCubeAndDropsDisocclusions) {
   EXPECT_GT(out.effective_samples, 3.0);
 }
 
+// The motion of an instance that turns and stretches: the cube turns a
+// quarter about its centre and grows by half along its own x. Between two
+// pixels of its top, the difference of their motions is the analytic one
+// (the jitter moves both alike): a step dx across the screen was a step of
+// (0, -dx) on the top a frame earlier, and a step dy one of (dy / 1.5, 0).
+TEST_F(TemporalTest, ReprojectionFollowsACubeThatTurnsAndStretches) {
+  GpuScene scene(context(), cube_over_ground());
+  Renderer renderer(context());
+  const RenderSettings settings = playback_settings();
+  renderer.begin(scene, top_view(), {tilted_sun()}, glm::vec3(0.05f), kSize, kSize, settings, true);
+  renderer.add_frame();
+  const glm::mat4 turned = glm::translate(glm::mat4(1.0f), glm::vec3(-0.5f, 0, 0)) *
+                           glm::rotate(glm::mat4(1.0f), float(M_PI / 2), glm::vec3(0, 0, 1)) *
+                           glm::scale(glm::mat4(1.0f), glm::vec3(1.5f, 1.0f, 1.0f));
+  scene.set_transforms({turned, glm::mat4(1.0f)});
+  renderer.begin(scene, top_view(), {tilted_sun()}, glm::vec3(0.05f), kSize, kSize, settings, true);
+  renderer.add_frame();
+
+  const std::vector<glm::vec4> motion = renderer.read_motion();
+  const double step = 4.0 / kSize;  // a pixel in world units
+  // (the top view maps 4 units to 2 in NDC, whose y points down)
+  auto in_world = [](glm::vec4 ndc) { return glm::vec2(2.0f * ndc.x, -2.0f * ndc.y); };
+  const glm::vec4 at = motion[pixel_at(-0.5, 0.0)], right = motion[pixel_at(-0.5 + 2 * step, 0.0)];
+  const glm::vec4 above = motion[pixel_at(-0.5, 3 * step)];
+  const glm::vec2 across = in_world(right - at) / float(2 * step), up = in_world(above - at) / float(3 * step);
+  std::printf("motion per unit across the top: (%.4f, %.4f), up it: (%.4f, %.4f); depth %.3f\n", across.x,
+              across.y, up.x, up.y, at.z);
+  EXPECT_NEAR(across.x, -1.0f, 1e-3f);
+  EXPECT_NEAR(across.y, -1.0f, 1e-3f);
+  EXPECT_NEAR(up.x, 1.0f / 1.5f, 1e-3f);
+  EXPECT_NEAR(up.y, -1.0f, 1e-3f);
+  EXPECT_NEAR(at.z, 9.0f, 1e-3f);
+  EXPECT_EQ(at.w, 1.0f);
+}
+
+// A square flattened onto z = 0.5 (its transform scales z to 0, so it has no
+// inverse) slides along x: its motion is its origin's, not NaN.
+TEST_F(TemporalTest, AFlattenedInstanceMovesWithItsOrigin) {
+  GpuScene scene(context(), cube_over_ground());
+  auto flat_at = [](float x) {
+    return glm::translate(glm::mat4(1.0f), glm::vec3(x, 0, 0.5f)) * glm::scale(glm::mat4(1.0f), glm::vec3(1, 1, 0));
+  };
+  scene.set_transforms({flat_at(-0.5f), glm::mat4(1.0f)});
+  Renderer renderer(context());
+  const RenderSettings settings = playback_settings();
+  renderer.begin(scene, top_view(), {tilted_sun()}, glm::vec3(0.05f), kSize, kSize, settings, true);
+  renderer.add_frame();
+  scene.set_transforms({flat_at(-0.5f + kMove), glm::mat4(1.0f)});
+  renderer.begin(scene, top_view(), {tilted_sun()}, glm::vec3(0.05f), kSize, kSize, settings, true);
+  renderer.add_frame();
+
+  const glm::vec4 on_square = renderer.read_motion()[pixel_at(0.05, 0.05)];
+  std::printf("motion on the flattened square (%.4f, %.4f), depth %.3f\n", on_square.x, on_square.y, on_square.z);
+  EXPECT_NEAR(on_square.x, -kMove * 0.5f, 1e-4f);
+  EXPECT_NEAR(on_square.y, 0.0f, 1e-4f);
+  EXPECT_NEAR(on_square.z, 9.5f, 1e-3f) << "the square's depth from the camera 10 above the ground";
+}
+
 // Playback: the cube moves by its own width. Two frames later, where its old
 // shadow lay and the sun now reaches, the image is as lit as a fresh render.s: no trail.
 TEST_F(TemporalTest, MovingCasterLeavesNoShadowTrailAfterTwoFrames) {
