@@ -391,7 +391,7 @@ void Renderer::begin(GpuScene& scene, const Camera& camera, const std::vector<Li
   light_buffer_ = vk::upload_buffer(context_, gpu_lights.data(), gpu_lights.size() * sizeof(gpu::GpuLight),
                                     VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
   if (!frame_buffer_.handle())
-    frame_buffer_ = vk::Buffer(context_, sizeof(gpu::FrameData), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT,
+    frame_buffer_ = vk::Buffer(context_, sizeof(gpu::FrameData), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT,
                                vk::Buffer::Access::HostVisible);
   gbuffer_.resize(width, height);
   temporal_.resize(glm::ivec2(width, height));
@@ -585,8 +585,7 @@ void Renderer::add_frame() {
   const bool resolves = has_history_ && frame_ == 0;
   const bool keeps = resolves && same_lighting_ && camera_stayed_;
   push_.kept_history = keeps ? 1u : 0u;
-  gpu::TemporalPush temporal = resolves ? temporal_push() : gpu::TemporalPush{};
-  temporal.listed_tiles = keeps ? 1u : 0u;  // (the resolve runs where the keep pass left pixels)
+  const gpu::TemporalPush temporal = resolves ? temporal_push() : gpu::TemporalPush{};
   const TemporalImages temporal_images{accum_color_,    accum_passes_,    history_color_,
                                        history_passes_, resolved_color_, resolved_passes_};
   auto compute_barrier = [](VkCommandBuffer cmd) {
@@ -612,7 +611,7 @@ void Renderer::add_frame() {
     shading_timer_.mark(cmd, "shade");
     if (resolves) {
       compute_barrier(cmd);
-      temporal_.record(cmd, gbuffer_, temporal_images, frame_buffer_, light_buffer_, temporal);
+      temporal_.record(cmd, gbuffer_, temporal_images, frame_buffer_, light_buffer_, temporal, keeps);
       shading_timer_.mark(cmd, "temporal");
     }
   });

@@ -165,7 +165,7 @@ struct GBufferPush {
   float field_voxel;    // world size of a voxel of the field holding this surface (0: only a receiver, in no field)
   uint first_material;  // its material slots in the scene's materials (the vertices give the slot)
   uint material_count;  // 0: base_color everywhere (and the pipeline without per-vertex material inputs)
-  uint unused;
+  uint pad0;
 };
 
 // A material slot as the G-buffer reads it (Material, Texture in scene.h).
@@ -189,8 +189,7 @@ struct TemporalPush {
   float depth_tolerance;       // relative depth a reprojected surface may differ by
   float jitter_reach;          // the sub-pixel jitter's reach (whole pixels)
   uint same_lighting;          // 1: the lights and the world are as history saw them (pixels may settle)
-  uint listed_tiles;           // 1: the resolve runs on the tiles the keep pass listed (kept_tiles.glsl.h), with
-                               // the History it handed on (its pipeline's kListedTiles)
+  uint pad0;
   uint pad1;
 };
 // The keep pass lists the tiles of kTemporalTile^2 pixels and the groups of

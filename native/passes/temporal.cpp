@@ -94,16 +94,17 @@ void TemporalPass::record_keep(VkCommandBuffer cmd, const GBufferPass& gbuffer, 
 }
 
 void TemporalPass::record(VkCommandBuffer cmd, const GBufferPass& gbuffer, const TemporalImages& images,
-                          const vk::Buffer& frame, const vk::Buffer& lights, const gpu::TemporalPush& push) const {
+                          const vk::Buffer& frame, const vk::Buffer& lights, const gpu::TemporalPush& push,
+                          bool after_keep) const {
   if (push.image_size != size_) throw Error("TemporalPass: resize to the image first");
   std::vector<vk::Resource> bindings = shared_bindings(gbuffer, images, frame, lights);
   bindings.insert(bindings.end(), {vk::Resource::storage_buffer(tiles_), vk::Resource::storage_image(gbuffer.normal()),
                                    vk::Resource::storage_image(gbuffer.albedo())});
-  const vk::Pipeline& resolve = push.listed_tiles ? resolve_listed_ : resolve_;
+  const vk::Pipeline& resolve = after_keep ? resolve_listed_ : resolve_;
   resolve.bind(cmd);
   resolve.push_descriptors(cmd, bindings);
   resolve.push_constants(cmd, push);
-  if (push.listed_tiles) {
+  if (after_keep) {
     vk::memory_barrier(cmd, VK_ACCESS_SHADER_WRITE_BIT, VK_ACCESS_INDIRECT_COMMAND_READ_BIT,
                        VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT);
     vkCmdDispatchIndirect(cmd, tiles_.handle(), 0);

@@ -44,12 +44,14 @@ class TemporalPass {
   // whatever the new sample, it is resolved (images.resolved_*) and becomes
   // the sample (images.sample_*), marked for the shading and the resolve to
   // skip (gpu::kKeptSample). The tiles holding pixels it did not keep are
-  // listed; with push.listed_tiles, the resolve runs on those alone.
+  // listed.
   void record_keep(VkCommandBuffer cmd, const GBufferPass& gbuffer, const TemporalImages& images,
                    const vk::Buffer& frame, const vk::Buffer& lights, const gpu::TemporalPush& push) const;
-  // After it (shaders/temporal_resolve.comp).
+  // After it (shaders/temporal_resolve.comp). `after_keep`: over the tiles
+  // the keep pass listed alone, with the History it handed on (the
+  // pipeline with kListedTiles); otherwise over every pixel.
   void record(VkCommandBuffer cmd, const GBufferPass& gbuffer, const TemporalImages& images, const vk::Buffer& frame,
-              const vk::Buffer& lights, const gpu::TemporalPush& push) const;
+              const vk::Buffer& lights, const gpu::TemporalPush& push, bool after_keep) const;
   // The lists of tiles where the last keep pass left pixels to shade (for
   // ShadeInputs::kept_tiles).
   KeptTiles kept_tiles() const;

@@ -65,6 +65,36 @@ void move_cube(GpuScene& scene, float x) {
   scene.set_transforms({glm::translate(glm::mat4(1.0f), glm::vec3(x, 0, 0)), glm::mat4(1.0f)});
 }
 
+// Begins a frame of `scene` from the top view (a playback frame where it
+// changed) and draws `frames` frames of it.
+void draw_top_view(Renderer& renderer, GpuScene& scene, const std::vector<Light>& lights, glm::vec3 sky,
+                   const RenderSettings& settings, int frames, glm::ivec2 size = {kSize, kSize}) {
+  renderer.begin(scene, top_view(), lights, sky, size.x, size.y, settings, true);
+  for (int frame = 0; frame < frames; ++frame) renderer.add_frame();
+}
+
+// A pixel's mean of R, G and B (a sky's noise shows there, not in the Shadow pass).
+float brightness(const RenderOutput& out, size_t i) {
+  return (out.combined[4 * i] + out.combined[4 * i + 1] + out.combined[4 * i + 2]) / 3.0f;
+}
+
+// The mean change of brightness between two images over `pixels`.
+double mean_change(const RenderOutput& a, const RenderOutput& b, const std::vector<size_t>& pixels) {
+  double sum = 0.0;
+  for (size_t i : pixels) sum += std::abs(brightness(a, i) - brightness(b, i));
+  return sum / double(pixels.size());
+}
+
+// One sample's noise over `pixels`: how far a frame of its own, without
+// history, is from the `converged` image.
+double one_sample_noise(GpuScene& scene, const std::vector<Light>& lights, glm::vec3 sky, RenderSettings settings,
+                        const RenderOutput& converged, const std::vector<size_t>& pixels) {
+  Renderer single(testing::VulkanTest::context());
+  settings.temporal_reuse = false;
+  draw_top_view(single, scene, lights, sky, settings, 1);
+  return mean_change(single.read(), converged, pixels);
+}
+
 // The tilted sun with a wide, noisy penumbra.
 Light wide_sun() {
   Light sun = tilted_sun();
@@ -96,11 +126,9 @@ TEST_F(TemporalTest, ReprojectionFollowsATranslatingCubeAndDropsDisocclusions) {
   GpuScene scene(context(), cube_over_ground());
   Renderer renderer(context());
   const RenderSettings settings = playback_settings();
-  renderer.begin(scene, top_view(), {tilted_sun()}, glm::vec3(0.05f), kSize, kSize, settings, true);
-  for (int frame = 0; frame < 4; ++frame) renderer.add_frame();
+  draw_top_view(renderer, scene, {tilted_sun()}, glm::vec3(0.05f), settings, 4);
   move_cube(scene, -0.5f + kMove);
-  renderer.begin(scene, top_view(), {tilted_sun()}, glm::vec3(0.05f), kSize, kSize, settings, true);
-  renderer.add_frame();
+  draw_top_view(renderer, scene, {tilted_sun()}, glm::vec3(0.05f), settings, 1);
 
   const std::vector<glm::vec4> motion = renderer.read_motion();
   const glm::vec4 on_top = motion[pixel_at(0.05, 0.05)], on_ground = motion[pixel_at(1.8, 1.8)];
@@ -133,14 +161,12 @@ TEST_F(TemporalTest, ReprojectionFollowsACubeThatTurnsAndStretches) {
   GpuScene scene(context(), cube_over_ground());
   Renderer renderer(context());
   const RenderSettings settings = playback_settings();
-  renderer.begin(scene, top_view(), {tilted_sun()}, glm::vec3(0.05f), kSize, kSize, settings, true);
-  renderer.add_frame();
+  draw_top_view(renderer, scene, {tilted_sun()}, glm::vec3(0.05f), settings, 1);
   const glm::mat4 turned = glm::translate(glm::mat4(1.0f), glm::vec3(-0.5f, 0, 0)) *
                            glm::rotate(glm::mat4(1.0f), float(M_PI / 2), glm::vec3(0, 0, 1)) *
                            glm::scale(glm::mat4(1.0f), glm::vec3(1.5f, 1.0f, 1.0f));
   scene.set_transforms({turned, glm::mat4(1.0f)});
-  renderer.begin(scene, top_view(), {tilted_sun()}, glm::vec3(0.05f), kSize, kSize, settings, true);
-  renderer.add_frame();
+  draw_top_view(renderer, scene, {tilted_sun()}, glm::vec3(0.05f), settings, 1);
 
   const std::vector<glm::vec4> motion = renderer.read_motion();
   const double step = 4.0 / kSize;  // a pixel in world units
@@ -169,11 +195,9 @@ TEST_F(TemporalTest, AFlattenedInstanceMovesWithItsOrigin) {
   scene.set_transforms({flat_at(-0.5f), glm::mat4(1.0f)});
   Renderer renderer(context());
   const RenderSettings settings = playback_settings();
-  renderer.begin(scene, top_view(), {tilted_sun()}, glm::vec3(0.05f), kSize, kSize, settings, true);
-  renderer.add_frame();
+  draw_top_view(renderer, scene, {tilted_sun()}, glm::vec3(0.05f), settings, 1);
   scene.set_transforms({flat_at(-0.5f + kMove), glm::mat4(1.0f)});
-  renderer.begin(scene, top_view(), {tilted_sun()}, glm::vec3(0.05f), kSize, kSize, settings, true);
-  renderer.add_frame();
+  draw_top_view(renderer, scene, {tilted_sun()}, glm::vec3(0.05f), settings, 1);
 
   const glm::vec4 on_square = renderer.read_motion()[pixel_at(0.05, 0.05)];
   std::printf("motion on the flattened square (%.4f, %.4f), depth %.3f\n", on_square.x, on_square.y, on_square.z);
@@ -183,18 +207,15 @@ TEST_F(TemporalTest, AFlattenedInstanceMovesWithItsOrigin) {
 }
 
 // Playback: the cube moves by its own width. Two frames later, where its old
-// shadow lay and the sun now reaches, the image is as lit as a fresh render.s: no trail.
+// shadow lay and the sun now reaches, the image is as lit as a fresh render: no trail.
 TEST_F(TemporalTest, MovingCasterLeavesNoShadowTrailAfterTwoFrames) {
   GpuScene scene(context(), cube_over_ground());
   Renderer renderer(context());
   RenderSettings settings = playback_settings();
-  renderer.begin(scene, top_view(), {tilted_sun()}, glm::vec3(0.05f), kSize, kSize, settings, true);
-  for (int frame = 0; frame < 8; ++frame) renderer.add_frame();
+  draw_top_view(renderer, scene, {tilted_sun()}, glm::vec3(0.05f), settings, 8);
   const std::vector<float> before = renderer.read().shadow;
   move_cube(scene, -0.5f + kMove);
-  renderer.begin(scene, top_view(), {tilted_sun()}, glm::vec3(0.05f), kSize, kSize, settings, true);
-  renderer.add_frame();
-  renderer.add_frame();
+  draw_top_view(renderer, scene, {tilted_sun()}, glm::vec3(0.05f), settings, 2);
   const std::vector<float> played = renderer.read().shadow;
 
   // (a converged fresh render: the played frames' two new samples differ from
@@ -236,12 +257,10 @@ TEST_F(TemporalTest, APlaybackFrameShadesThePartialTilesAtTheImageEdges) {
   Renderer renderer(context());
   RenderSettings settings = playback_settings();
   settings.samples = 8;
-  renderer.begin(scene, top_view(), {tilted_sun()}, glm::vec3(0.05f), kWidth, kHeight, settings, true);
-  for (int frame = 0; frame < settings.samples; ++frame) renderer.add_frame();
+  draw_top_view(renderer, scene, {tilted_sun()}, glm::vec3(0.05f), settings, settings.samples, {kWidth, kHeight});
   const std::vector<float> before = renderer.read().shadow;
   scene.set_transforms({moved, glm::mat4(1.0f)});
-  renderer.begin(scene, top_view(), {tilted_sun()}, glm::vec3(0.05f), kWidth, kHeight, settings, true);
-  renderer.add_frame();
+  draw_top_view(renderer, scene, {tilted_sun()}, glm::vec3(0.05f), settings, 1, {kWidth, kHeight});
   const RenderOutput out = renderer.read();
   const std::vector<float>& played = out.shadow;
   // (every pixel was shaded or kept: its mean stands for a sample at least)
@@ -419,8 +438,7 @@ TEST_F(TemporalTest, SettledPixelsDoNotShimmerDuringPlayback) {
   Renderer renderer(context());
   RenderSettings settings = playback_settings();
   settings.samples = 8;
-  renderer.begin(scene, top_view(), {sun}, glm::vec3(0.05f), kSize, kSize, settings, true);
-  for (int frame = 0; frame < settings.samples; ++frame) renderer.add_frame();
+  draw_top_view(renderer, scene, {sun}, glm::vec3(0.05f), settings, settings.samples);
   std::vector<std::vector<float>> frames;
   for (int step = 1; step <= 3; ++step) {
     scene.set_transforms(two_cubes_at(-0.5f + 0.1f * float(step), 1.0f, -1.0f));
@@ -447,8 +465,7 @@ TEST_F(TemporalTest, SettledPixelsDoNotShimmerDuringPlayback) {
 
   // A turned sun moves every shadow: nothing is settled then.
   sun.direction = glm::vec3(0.5f, 0.3f, -0.8f);
-  renderer.begin(scene, top_view(), {sun}, glm::vec3(0.05f), kSize, kSize, settings, true);
-  renderer.add_frame();
+  draw_top_view(renderer, scene, {sun}, glm::vec3(0.05f), settings, 1);
   const std::vector<float> turned = renderer.read().shadow;
   double turned_change = 0.0;
   for (double x = 0.1; x <= 1.0; x += 4.0 / kSize)
@@ -479,45 +496,24 @@ TEST_F(TemporalTest, AStillPixelBeyondContactWithWhatMovedStaysAsItWas) {
       still_shadow.push_back(pixel_at(x, y));
       moving_shadow.push_back(pixel_at(x, y + 1.0));
     }
-  auto brightness = [](const RenderOutput& out) {  // (the mean of R, G and B: the sky's noise shows in them, not in Shadow)
-    std::vector<float> values(out.combined.size() / 4);
-    for (size_t i = 0; i < values.size(); ++i)
-      values[i] = (out.combined[4 * i] + out.combined[4 * i + 1] + out.combined[4 * i + 2]) / 3.0f;
-    return values;
-  };
-  auto mean_change = [](const std::vector<float>& a, const std::vector<float>& b, const std::vector<size_t>& pixels) {
-    double sum = 0.0;
-    for (size_t i : pixels) sum += std::abs(a[i] - b[i]);
-    return sum / double(pixels.size());
-  };
 
   Renderer renderer(context());
-  renderer.begin(scene, top_view(), {sun}, sky, kSize, kSize, settings, true);
-  for (int frame = 0; frame < settings.samples; ++frame) renderer.add_frame();
-  const std::vector<float> converged = brightness(renderer.read());
-  // One sample's noise there: a single frame of its own, against the converged image.
-  Renderer single(context());
-  RenderSettings one = settings;
-  one.temporal_reuse = false;
-  single.begin(scene, top_view(), {sun}, sky, kSize, kSize, one, true);
-  single.add_frame();
-  const double noise = mean_change(brightness(single.read()), converged, still_shadow);
+  draw_top_view(renderer, scene, {sun}, sky, settings, settings.samples);
+  RenderOutput previous = renderer.read();
+  const double noise = one_sample_noise(scene, {sun}, sky, settings, previous, still_shadow);
 
-  std::vector<float> previous = converged;
   double near_change = 0.0, moving_change = 0.0;
   float most_samples = 0.0f;  // (of the still shadow's pixels, after the last step)
   const int steps = 4;
   for (int step = 1; step <= steps; ++step) {
     scene.set_transforms(two_cubes_at(-0.5f + 0.05f * float(step), 0.5f, -0.5f));
-    renderer.begin(scene, top_view(), {sun}, sky, kSize, kSize, settings, true);
-    renderer.add_frame();
+    draw_top_view(renderer, scene, {sun}, sky, settings, 1);
     const RenderOutput out = renderer.read();
-    const std::vector<float> shadow = brightness(out);
-    near_change = std::max(near_change, mean_change(shadow, previous, still_shadow));
-    moving_change = std::max(moving_change, mean_change(shadow, previous, moving_shadow));
-    previous = shadow;
+    near_change = std::max(near_change, mean_change(out, previous, still_shadow));
+    moving_change = std::max(moving_change, mean_change(out, previous, moving_shadow));
     most_samples = 0.0f;
     for (size_t i : still_shadow) most_samples = std::max(most_samples, out.samples[i]);
+    previous = out;
   }
   std::printf("mean change between playback frames: still shadow near the moving cube %.5f (a sample's noise %.4f), "
               "moving shadow %.4f; the still shadow's history after %d steps: up to %.0f samples\n", near_change, noise,
@@ -553,27 +549,15 @@ TEST_F(TemporalTest, AStillPixelInContactWithWhatMovedKeepsItsValueWhereNothingC
   std::vector<size_t> contact;
   for (double x = -0.75; x <= -0.25; x += 4.0 / kSize)
     for (double y : {-0.4, -0.375, 0.375, 0.4}) contact.push_back(pixel_at(x, y));
-  auto brightness = [](const RenderOutput& out, size_t i) {
-    return (out.combined[4 * i] + out.combined[4 * i + 1] + out.combined[4 * i + 2]) / 3.0f;
-  };
 
   Renderer renderer(context());
-  renderer.begin(scene, top_view(), {}, sky, kSize, kSize, settings, true);
-  for (int frame = 0; frame < settings.samples; ++frame) renderer.add_frame();
+  draw_top_view(renderer, scene, {}, sky, settings, settings.samples);
   RenderOutput previous = renderer.read();
-  Renderer single(context());  // (one sample's noise there: a frame of its own against the converged one)
-  RenderSettings one = settings;
-  one.temporal_reuse = false;
-  single.begin(scene, top_view(), {}, sky, kSize, kSize, one, true);
-  single.add_frame();
-  const RenderOutput one_sample = single.read();
-  double noise = 0.0;
-  for (size_t i : contact) noise += std::abs(brightness(one_sample, i) - brightness(previous, i)) / double(contact.size());
+  const double noise = one_sample_noise(scene, {}, sky, settings, previous, contact);
   size_t kept = 0, seen = 0;
   for (int step = 1; step <= 4; ++step) {
     scene.set_transforms(cube_at(-0.5f + 0.05f * float(step)));
-    renderer.begin(scene, top_view(), {}, sky, kSize, kSize, settings, true);
-    renderer.add_frame();
+    draw_top_view(renderer, scene, {}, sky, settings, 1);
     const RenderOutput out = renderer.read();
     for (size_t i : contact) kept += brightness(out, i) == brightness(previous, i) ? 1 : 0;
     seen += contact.size();
@@ -694,12 +678,10 @@ TEST_F(TemporalTest, AShadowThatDidNotMoveKeepsItsHistory) {
   Renderer renderer(context());
   RenderSettings settings = playback_settings();
   settings.samples = 16;
-  renderer.begin(scene, top_view(), {wide_sun()}, glm::vec3(0.05f), kSize, kSize, settings, true);
-  for (int frame = 0; frame < settings.samples; ++frame) renderer.add_frame();
+  draw_top_view(renderer, scene, {wide_sun()}, glm::vec3(0.05f), settings, settings.samples);
   const std::vector<float> before = renderer.read().shadow;
   move_cube(scene, -0.5f + 0.02f);
-  renderer.begin(scene, top_view(), {wide_sun()}, glm::vec3(0.05f), kSize, kSize, settings, true);
-  renderer.add_frame();
+  draw_top_view(renderer, scene, {wide_sun()}, glm::vec3(0.05f), settings, 1);
   const RenderOutput played = renderer.read();
   int lit = 0, restarted = 0, shadow_ends = 0;
   for (size_t i = 0; i < played.shadow.size(); ++i) {
