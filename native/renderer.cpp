@@ -403,8 +403,10 @@ void Renderer::begin(GpuScene& scene, const Camera& camera, const std::vector<Li
   const bool size_changed = width != width_ || height != height_ || !accum_color_.handle();
   if (size_changed || (settings.temporal_reuse && !history_color_.handle())) {
     const VkImageUsageFlags usage = VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
-    std::vector<vk::Image*> planes = {&accum_color_, &accum_passes_};
-    if (settings.temporal_reuse) planes.insert(planes.end(), {&history_color_, &history_passes_, &resolved_color_, &resolved_passes_});
+    std::vector<vk::Image*> planes = {&accum_color_, &accum_passes_, &accum_moments_};
+    if (settings.temporal_reuse)
+      planes.insert(planes.end(), {&history_color_, &history_passes_, &history_moments_, &resolved_color_,
+                                   &resolved_passes_, &resolved_moments_});
     for (vk::Image* plane : planes) {
       *plane = vk::Image::plane(context_, width, height, VK_FORMAT_R32G32B32A32_SFLOAT, usage);
       vk::make_general(context_, {plane});
@@ -413,6 +415,7 @@ void Renderer::begin(GpuScene& scene, const Camera& camera, const std::vector<Li
   if (has_history_) {
     std::swap(history_color_, accum_color_);
     std::swap(history_passes_, accum_passes_);
+    std::swap(history_moments_, accum_moments_);
   }
   width_ = width;
   height_ = height;
@@ -586,8 +589,8 @@ void Renderer::add_frame() {
   const bool keeps = resolves && same_lighting_ && camera_stayed_;
   push_.kept_history = keeps ? 1u : 0u;
   const gpu::TemporalPush temporal = resolves ? temporal_push() : gpu::TemporalPush{};
-  const TemporalImages temporal_images{accum_color_,    accum_passes_,    history_color_,
-                                       history_passes_, resolved_color_, resolved_passes_};
+  const TemporalImages temporal_images{accum_color_,     accum_passes_,    history_color_,   history_passes_,
+                                       resolved_color_,  resolved_passes_, history_moments_, resolved_moments_};
   auto compute_barrier = [](VkCommandBuffer cmd) {
     vk::memory_barrier(cmd, VK_ACCESS_SHADER_WRITE_BIT, VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT,
                        VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT);
@@ -606,7 +609,7 @@ void Renderer::add_frame() {
     const bool share_lights = settings_.quick_first_frame && frame_ == 0;
     const KeptTiles kept_tiles = temporal_.kept_tiles();
     shade_.record(cmd, {gbuffer_, march_, shadow_maps, rays, light_buffer_, frame_buffer_, &kept_tiles},
-                  {accum_color_, accum_passes_},
+                  {accum_color_, accum_passes_, accum_moments_},
                   march_sky, share_lights, push_, &shading_timer_);
     shading_timer_.mark(cmd, "shade");
     if (resolves) {
@@ -618,6 +621,7 @@ void Renderer::add_frame() {
   if (resolves) {
     std::swap(accum_color_, resolved_color_);
     std::swap(accum_passes_, resolved_passes_);
+    std::swap(accum_moments_, resolved_moments_);
   }
   drawn_frame_ = frame_data_;
   timings_.shade_ms += ms_since(shading);
@@ -646,12 +650,21 @@ gpu::TemporalPush Renderer::temporal_push() const {
   return temporal;
 }
 
-std::vector<glm::vec4> Renderer::read_motion() const {
-  const std::vector<float> values = read_plane<float>(context_, gbuffer_.motion(), 4);
-  std::vector<glm::vec4> motion(values.size() / 4);
-  for (size_t i = 0; i < motion.size(); ++i)
-    motion[i] = glm::vec4(values[4 * i], values[4 * i + 1], values[4 * i + 2], values[4 * i + 3]);
-  return motion;
+namespace {
+std::vector<glm::vec4> read_vec4_plane(const vk::Context& context, const vk::Image& image) {
+  const std::vector<float> values = read_plane<float>(context, image, 4);
+  std::vector<glm::vec4> texels(values.size() / 4);
+  for (size_t i = 0; i < texels.size(); ++i)
+    texels[i] = glm::vec4(values[4 * i], values[4 * i + 1], values[4 * i + 2], values[4 * i + 3]);
+  return texels;
+}
+}  // namespace
+
+std::vector<glm::vec4> Renderer::read_motion() const { return read_vec4_plane(context_, gbuffer_.motion()); }
+
+std::vector<glm::vec4> Renderer::read_sample_moments() const {
+  if (!accum_moments_.handle()) return {};
+  return read_vec4_plane(context_, accum_moments_);
 }
 
 RenderOutput Renderer::read(bool passes) const {

@@ -254,6 +254,11 @@ class Renderer {
   // now (normalized device coordinates), z = its depth from that camera, w =
   // 1 where known (see shaders/gbuffer.frag). For inspection and tests.
   std::vector<glm::vec4> read_motion() const;
+  // The accumulation's running second moments per pixel (rows top to
+  // bottom): the mean over its samples of the Combined colour's Y, Co and
+  // Cg squared (shaders/sample_moments.glsl.h).
+  // The temporal resolve judges a still pixel's noise by them. For tests.
+  std::vector<glm::vec4> read_sample_moments() const;
   // The whole scene's fine SDF as the last frame left it (rtsdf_world,
   // rt_only; its grid is empty before the first update).
   const FineSdf& fine_sdf() const { return fine_; }
@@ -323,10 +328,11 @@ class Renderer {
   vk::Buffer frame_buffer_;
   vk::Image accum_color_;
   vk::Image accum_passes_;  // x = nearest depth, y = shadow, z = samples in the pixel's mean, w = farthest depth
+  vk::Image accum_moments_;  // the samples' second moments (shaders/sample_moments.glsl.h)
 
   // Temporal reuse: the last accumulation (history) while the first frame
   // after a change is resolved into resolved_*, which then becomes accum_*.
-  vk::Image history_color_, history_passes_, resolved_color_, resolved_passes_;
+  vk::Image history_color_, history_passes_, history_moments_, resolved_color_, resolved_passes_, resolved_moments_;
   bool has_history_ = false;      // this accumulation's first frame reprojects history
   bool camera_stayed_ = false;    // the camera is where history saw it (or there is no history)
   bool same_lighting_ = false;    // the lights and the world are as history saw them (settled pixels may stay)

@@ -27,6 +27,7 @@ layout(constant_id = 2) const uint kFieldView = kDebugNone;
 #include "shadow_map_lookup.glsl.h"  // csm_evsm, csm_jitter
 #include "field_views.glsl.h"        // what the fields look like, in place of the image
 #include "quad_share.glsl.h"         // the quad pass's samples shared with the pixels on their surface
+#include "sample_moments.glsl.h"     // the second moments beside the running means
 
 void main() {
   ivec2 pixel;
@@ -115,4 +116,6 @@ void main() {
   float nearest = samples > 0.0 ? min(previous_passes.x, seen) : seen;
   float farthest = samples > 0.0 ? max(previous_passes.w, seen) : seen;
   imageStore(accum_passes, pixel, vec4(nearest, mix(previous_passes.y, shadow, w), samples + 1.0, farthest));
+  vec4 previous_moments = pc.accumulation_frame == 0 ? vec4(0.0) : imageLoad(accum_moments, pixel);
+  imageStore(accum_moments, pixel, mix(previous_moments, sample_moments(color), w));
 }

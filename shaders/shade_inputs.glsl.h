@@ -46,6 +46,8 @@ layout(binding = 7, rgba32f) uniform readonly image2D accum_passes;
 layout(binding = 6, rgba32f) uniform image2D accum_color;   // rgb = Combined, a = coverage
 // x = Depth (the nearest seen), y = Shadow (visibility), z = samples in the mean, w = the farthest depth seen
 layout(binding = 7, rgba32f) uniform image2D accum_passes;
+// The samples' second moments (sample_moments.glsl.h), for the temporal resolve
+layout(binding = 20, rgba32f) uniform image2D accum_moments;
 #endif
 
 // With pc.kept_history, the tiles where the keep pass left pixels to shade:

@@ -24,6 +24,8 @@ layout(std430, binding = 7) readonly buffer Lights { GpuLight lights[]; };
 layout(binding = 8, rgba32f) uniform writeonly image2D resolved_color;
 layout(binding = 9, rgba32f) uniform writeonly image2D resolved_passes;
 layout(std430, binding = 10) buffer Tiles { uint tile_words[]; };
+layout(binding = 13, rgba32f) uniform readonly image2D history_moments;
+layout(binding = 14, rgba32f) uniform writeonly image2D resolved_moments;
 #define RTSDF_LISTS_TILES
 #include "temporal_history.glsl.h"
 
@@ -39,6 +41,7 @@ void main() {
     return;
   }
   resolve_settled(pixel, position, h);
+  imageStore(resolved_moments, pixel, imageLoad(history_moments, pixel));  // (still: history where it was)
   // (its sample, for its neighbours in the resolve; the passes as the shading would write them)
   float seen = seen_depth(position);
   imageStore(accum_color, pixel, h.color);

@@ -20,6 +20,9 @@
 //   Shadow pass (filtered) is not history's, history stands for at most
 //   moved_shadow_samples samples, however still the receiver, and is
 //   clipped tighter (moved_shadow_clip): a reactive mask for the shadow.
+// - Noise: the accumulation keeps its samples' second moments
+//   (sample_moments.glsl.h), so a still pixel knows its own noise, and
+//   its clip allows for it.
 // - Settled pixels: under unchanged lights and world, full history that stays
 //   where it was, beyond contact with what moved (or within it, where this
 //   frame's neighbourhood holds history) and out of its shadow's way, keeps
@@ -47,6 +50,9 @@ layout(binding = 9, rgba32f) uniform image2D resolved_passes;
 layout(std430, binding = 10) readonly buffer Tiles { uint tile_words[]; };
 layout(binding = 11, rgba32f) uniform readonly image2D g_normal;
 layout(binding = 12, rgba32f) uniform readonly image2D g_albedo;
+layout(binding = 13, rgba32f) uniform readonly image2D history_moments;
+layout(binding = 14, rgba32f) uniform writeonly image2D resolved_moments;
+#include "sample_moments.glsl.h"
 #include "same_surface.glsl.h"
 #define RTSDF_TAKES_HISTORY
 #include "temporal_history.glsl.h"
@@ -55,13 +61,11 @@ layout(binding = 12, rgba32f) uniform readonly image2D g_albedo;
 // is not compiled in).
 layout(constant_id = 0) const uint kListedTiles = 0u;
 
-vec3 to_ycocg(vec3 c) {
-  return vec3(0.25 * c.r + 0.5 * c.g + 0.25 * c.b, 0.5 * c.r - 0.5 * c.b, -0.25 * c.r + 0.5 * c.g - 0.25 * c.b);
-}
-vec3 from_ycocg(vec3 c) { return vec3(c.x + c.y - c.z, c.x + c.z, c.x - c.y - c.z); }
-
 // How far this frame's Shadow pass may lie from history's where a moved
 // caster's shadow may have moved, and history still count as unmoved.
+// (Not widened by the pixel's noise: a slowly moving penumbra's ends then
+// kept their history, 2 of the 41 pixels restarted in
+// TemporalTest.AShadowThatDidNotMoveKeepsItsHistory.)
 const float kSameShadow = 0.02;
 
 // This frame's sample at `pixel` (a surface point p) with its noise
@@ -114,6 +118,8 @@ void main() {
   History h = kListedTiles == 1u ? handed_history(pixel) : find_history(pixel, position);
   imageStore(resolved_color, pixel, current);  // (where history cannot help: this sample alone)
   imageStore(resolved_passes, pixel, passes);
+  const vec4 sample_second = sample_moments(current.rgb);  // (the sample's own, before any filter)
+  imageStore(resolved_moments, pixel, sample_second);
   bool background = position.w <= 0.0;
   bool surface = !background && position.w < 0.5 * (kShadedSurface + kHoldoutSurface);
 
@@ -128,6 +134,10 @@ void main() {
     imageStore(resolved_color, pixel, current);
     return;
   }
+  // History's second moments: a still pixel's are its own texel's (it
+  // stays where it was on screen); a moving pixel's samples' spread is not
+  // carried (its neighbourhood alone judges their noise).
+  vec4 history_second = h.still ? imageLoad(history_moments, pixel) : sample_moments(h.color.rgb);
   // Whether the shadow did move: this frame's sun visibility (filtered)
   // against history's. The box of what moved is a bound: most pixels whose
   // light paths cross it keep their shadow, and taking half of each frame's
@@ -136,6 +146,7 @@ void main() {
   bool still = h.still && !shadow_moved;
   if (still && h.away) {  // settled
     resolve_settled(pixel, position, h);
+    imageStore(resolved_moments, pixel, history_second);
     return;
   }
 
@@ -160,6 +171,12 @@ void main() {
     }
   mean /= count;
   vec3 sigma = sqrt(max(square / count - mean * mean, 0.0));
+  // A still pixel's own samples tell its noise better: the world light's
+  // two cones give near-discrete values, and nine neighbours' often agree
+  // exactly (a spread of 0) where the pixel's do not over frames. A spread
+  // below that noise clipped history that had not changed, and the new
+  // sample blended in made the speckle of playback flicker.
+  if (still) sigma = max(sigma, sample_sigma(history_second, h.color.rgb));
   float clip = shadow_moved ? pc.moved_shadow_clip : pc.clip;
   vec3 lo = mean - clip * sigma, hi = mean + clip * sigma;
   // Clip towards the mean (not per channel), keeping history's hue where it can.
@@ -178,6 +195,7 @@ void main() {
   // is blended in, as before.
   if (still && scale <= 1.0) {
     resolve_settled(pixel, position, h);
+    imageStore(resolved_moments, pixel, history_second);
     return;
   }
   // (the shadow pass follows the colour: clipped by the same share)
@@ -189,6 +207,8 @@ void main() {
   if (shadow_moved) samples = min(samples, pc.moved_shadow_samples);
   float w = 1.0 / (samples + 1.0);  // this frame's sample's share
   imageStore(resolved_color, pixel, vec4(mix(clipped, current.rgb, w), current.a));
+  imageStore(resolved_moments, pixel,
+             mix(moments_moved_to(history_second, h.color.rgb, clipped), sample_second, w));
   // History's depths, moved as this surface point moved in depth since.
   float moved = background ? 0.0 : passes.x - h.previous_depth;
   imageStore(resolved_passes, pixel, vec4(min(passes.x, h.nearest + moved), mix(shadow_history, passes.y, w),

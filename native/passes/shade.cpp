@@ -18,7 +18,7 @@ constexpr VkDescriptorType kUniform = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
 // Every pass sees the same bindings (each reads those it needs).
 const std::vector<VkDescriptorType> kBindings = {kImage,  kImage,  kImage,  kBuffer, kBuffer, kUniform, kImage,
                                                  kImage,  kImage,  kBuffer, kBuffer, kBuffer, kImage,  kBuffer,
-                                                 kBuffer, kBuffer, kBuffer, kBuffer, kBuffer, kBuffer};
+                                                 kBuffer, kBuffer, kBuffer, kBuffer, kBuffer, kBuffer, kImage};
 }  // namespace
 
 ShadePass::ShadePass(const vk::Context& context)
@@ -110,7 +110,8 @@ void ShadePass::record(VkCommandBuffer cmd, const ShadeInputs& in, const ShadeTa
               vk::Resource::storage_buffer(rays ? rays->instances : no_shadow_tiles_),
               vk::Resource::storage_buffer(rays ? rays->bottom_nodes : no_shadow_tiles_),
               vk::Resource::storage_buffer(rays ? rays->triangles : no_shadow_tiles_),
-              vk::Resource::storage_buffer(kept_tiles ? kept_tiles->buffer : no_shadow_tiles_)});
+              vk::Resource::storage_buffer(kept_tiles ? kept_tiles->buffer : no_shadow_tiles_),
+              vk::Resource::storage_image(out.accum_moments)});
     pass.push_constants(cmd, push);
   };
   auto barrier = [&](VkAccessFlags dst_access, VkPipelineStageFlags dst_stage) {

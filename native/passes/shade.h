@@ -42,6 +42,7 @@ struct ShadeInputs {
 struct ShadeTargets {
   const vk::Image& accum_color;   // rgb = Combined, a = coverage
   const vk::Image& accum_passes;  // Depth, Shadow, samples, farthest depth
+  const vk::Image& accum_moments;  // the samples' second moments (shaders/sample_moments.glsl.h)
 };
 
 class ShadePass {

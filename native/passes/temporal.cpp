@@ -13,20 +13,18 @@ namespace {
 constexpr VkDescriptorType kImage = VK_DESCRIPTOR_TYPE_STORAGE_IMAGE;
 constexpr VkDescriptorType kBuffer = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
 constexpr VkDescriptorType kUniform = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
-const std::vector<VkDescriptorType> kResolveBindings = {kImage,  kImage,  kImage,  kImage, kImage,
-                                                        kImage,  kUniform, kBuffer, kImage, kImage,
-                                                        kBuffer, kImage,  kImage};
+// Both passes' (temporal_keep.comp declares fewer of them: the surface's normal and albedo are the resolve's).
+const std::vector<VkDescriptorType> kBindings = {kImage, kImage,   kImage,  kImage, kImage, kImage, kUniform, kBuffer,
+                                                 kImage, kImage,   kBuffer, kImage, kImage, kImage, kImage};
 }  // namespace
 
 TemporalPass::TemporalPass(const vk::Context& context)
     : context_(context),
-      keep_(context, RTSDF_SPIRV(spirv_temporal_keep_comp),
-            {kImage, kImage, kImage, kImage, kImage, kImage, kUniform, kBuffer, kImage, kImage, kBuffer},
-            uint32_t(sizeof(gpu::TemporalPush))),
+      keep_(context, RTSDF_SPIRV(spirv_temporal_keep_comp), kBindings, uint32_t(sizeof(gpu::TemporalPush))),
       quad_groups_(context, RTSDF_SPIRV(spirv_temporal_quad_groups_comp), {kBuffer}, uint32_t(sizeof(gpu::TemporalPush))),
-      resolve_(context, RTSDF_SPIRV(spirv_temporal_resolve_comp), kResolveBindings, uint32_t(sizeof(gpu::TemporalPush)),
+      resolve_(context, RTSDF_SPIRV(spirv_temporal_resolve_comp), kBindings, uint32_t(sizeof(gpu::TemporalPush)),
                {0u}),
-      resolve_listed_(context, RTSDF_SPIRV(spirv_temporal_resolve_comp), kResolveBindings,
+      resolve_listed_(context, RTSDF_SPIRV(spirv_temporal_resolve_comp), kBindings,
                       uint32_t(sizeof(gpu::TemporalPush)), {1u}) {}
 
 namespace {
@@ -55,15 +53,20 @@ void TemporalPass::resize(glm::ivec2 size) {
 }
 
 namespace {
-// Bindings 0 to 9, the same in both passes: the G-buffer's position and
-// motion, this frame's sample, history, the frame, the lights and the resolved accumulation.
-std::vector<vk::Resource> shared_bindings(const GBufferPass& gbuffer, const TemporalImages& images,
-                                          const vk::Buffer& frame, const vk::Buffer& lights) {
-  return {vk::Resource::storage_image(gbuffer.position()),     vk::Resource::storage_image(gbuffer.motion()),
-          vk::Resource::storage_image(images.sample_color),    vk::Resource::storage_image(images.sample_passes),
-          vk::Resource::storage_image(images.history_color),   vk::Resource::storage_image(images.history_passes),
-          vk::Resource::uniform_buffer(frame),                 vk::Resource::storage_buffer(lights),
-          vk::Resource::storage_image(images.resolved_color),  vk::Resource::storage_image(images.resolved_passes)};
+// The bindings of both passes: the G-buffer's position and motion, this
+// frame's sample, history, the frame, the lights, the resolved
+// accumulation, the tile lists, the G-buffer's normal and albedo, and the
+// second moments of history and of the resolved accumulation.
+std::vector<vk::Resource> bindings(const GBufferPass& gbuffer, const TemporalImages& images, const vk::Buffer& frame,
+                                   const vk::Buffer& lights, const vk::Buffer& tiles) {
+  return {vk::Resource::storage_image(gbuffer.position()),      vk::Resource::storage_image(gbuffer.motion()),
+          vk::Resource::storage_image(images.sample_color),     vk::Resource::storage_image(images.sample_passes),
+          vk::Resource::storage_image(images.history_color),    vk::Resource::storage_image(images.history_passes),
+          vk::Resource::uniform_buffer(frame),                  vk::Resource::storage_buffer(lights),
+          vk::Resource::storage_image(images.resolved_color),   vk::Resource::storage_image(images.resolved_passes),
+          vk::Resource::storage_buffer(tiles),                  vk::Resource::storage_image(gbuffer.normal()),
+          vk::Resource::storage_image(gbuffer.albedo()),        vk::Resource::storage_image(images.history_moments),
+          vk::Resource::storage_image(images.resolved_moments)};
 }
 }  // namespace
 
@@ -79,10 +82,8 @@ void TemporalPass::record_keep(VkCommandBuffer cmd, const GBufferPass& gbuffer, 
   }
   vk::memory_barrier(cmd, VK_ACCESS_TRANSFER_WRITE_BIT, VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT,
                      VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT);
-  std::vector<vk::Resource> bindings = shared_bindings(gbuffer, images, frame, lights);
-  bindings.push_back(vk::Resource::storage_buffer(tiles_));
   keep_.bind(cmd);
-  keep_.push_descriptors(cmd, bindings);
+  keep_.push_descriptors(cmd, bindings(gbuffer, images, frame, lights, tiles_));
   keep_.push_constants(cmd, push);
   vkCmdDispatch(cmd, vk::group_count(size_.x, int(gpu::kTemporalTile)), vk::group_count(size_.y, int(gpu::kTemporalTile)), 1);
   vk::memory_barrier(cmd, VK_ACCESS_SHADER_WRITE_BIT, VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT,
@@ -97,12 +98,9 @@ void TemporalPass::record(VkCommandBuffer cmd, const GBufferPass& gbuffer, const
                           const vk::Buffer& frame, const vk::Buffer& lights, const gpu::TemporalPush& push,
                           bool after_keep) const {
   if (push.image_size != size_) throw Error("TemporalPass: resize to the image first");
-  std::vector<vk::Resource> bindings = shared_bindings(gbuffer, images, frame, lights);
-  bindings.insert(bindings.end(), {vk::Resource::storage_buffer(tiles_), vk::Resource::storage_image(gbuffer.normal()),
-                                   vk::Resource::storage_image(gbuffer.albedo())});
   const vk::Pipeline& resolve = after_keep ? resolve_listed_ : resolve_;
   resolve.bind(cmd);
-  resolve.push_descriptors(cmd, bindings);
+  resolve.push_descriptors(cmd, bindings(gbuffer, images, frame, lights, tiles_));
   resolve.push_constants(cmd, push);
   if (after_keep) {
     vk::memory_barrier(cmd, VK_ACCESS_SHADER_WRITE_BIT, VK_ACCESS_INDIRECT_COMMAND_READ_BIT,

@@ -33,6 +33,10 @@ struct TemporalImages {
   const vk::Image& history_passes;
   const vk::Image& resolved_color;
   const vk::Image& resolved_passes;
+  // The samples' second moments (shaders/sample_moments.glsl.h): history's,
+  // and the resolved accumulation's.
+  const vk::Image& history_moments;
+  const vk::Image& resolved_moments;
 };
 
 class TemporalPass {

@@ -533,6 +533,57 @@ TEST_F(TemporalTest, AStillPixelBeyondContactWithWhatMovedStaysAsItWas) {
 // pixel steps kept their value (101 with the noise judged over the 3x3
 // pixels around each, not samples a quad apart; with each frame's sample
 // blended in, a mutation run, none did).
+// The accumulation keeps its samples' second moments beside their means
+// (the temporal resolve judges a still pixel's noise by them): after N
+// frames, each pixel's are the mean of its N samples' Y, Co and Cg squared. Each sample is read back from the running means (N m_N -
+// (N - 1) m_(N-1)). Where the cube moved, history carries them on: a
+// pixel far from it keeps its own.
+TEST_F(TemporalTest, TheAccumulationKeepsItsSamplesSecondMoments) {
+  GpuScene scene(context(), cube_over_ground());
+  RenderSettings settings = playback_settings();
+  settings.samples = 8;
+  const std::vector<Light> lights = {wide_sun()};
+  const glm::vec3 sky(0.6f);
+  Renderer renderer(context());
+  renderer.begin(scene, top_view(), lights, sky, kSize, kSize, settings, true);
+  const size_t pixels = size_t(kSize) * kSize;
+  std::vector<glm::vec3> expected(pixels, glm::vec3(0.0f)), previous_mean(pixels, glm::vec3(0.0f));
+  for (int n = 1; n <= settings.samples; ++n) {
+    renderer.add_frame();
+    const RenderOutput out = renderer.read();
+    for (size_t i = 0; i < pixels; ++i) {
+      const glm::vec3 mean(out.combined[4 * i], out.combined[4 * i + 1], out.combined[4 * i + 2]);
+      const glm::vec3 sample = float(n) * mean - float(n - 1) * previous_mean[i];
+      const glm::vec3 ycocg(0.25f * sample.r + 0.5f * sample.g + 0.25f * sample.b, 0.5f * (sample.r - sample.b),
+                            -0.25f * sample.r + 0.5f * sample.g - 0.25f * sample.b);
+      expected[i] += (ycocg * ycocg - expected[i]) / float(n);
+      previous_mean[i] = mean;
+    }
+  }
+  const std::vector<glm::vec4> moments = renderer.read_sample_moments();
+  ASSERT_EQ(moments.size(), pixels);
+  const RenderOutput converged = renderer.read();
+  double worst = 0.0;
+  size_t noisy = 0;
+  for (size_t i = 0; i < pixels; ++i) {
+    for (int c = 0; c < 3; ++c) worst = std::max(worst, double(std::abs(moments[i][c] - expected[i][c])));
+    const float luma = 0.25f * converged.combined[4 * i] + 0.5f * converged.combined[4 * i + 1] +
+                       0.25f * converged.combined[4 * i + 2];
+    if (moments[i].x - luma * luma > 1e-3f) ++noisy;
+  }
+  std::printf("second moments after %d samples: worst difference %.2e; %zu pixels with a noise spread\n",
+              settings.samples, worst, noisy);
+  EXPECT_GT(noisy, pixels / 20) << "the penumbrae and the sky are noisy";
+  EXPECT_LT(worst, 2e-3);
+
+  // The cube moves a little: the ground's far corner is kept from history, and so are its moments.
+  const size_t far = pixel_at(1.8, 1.8);
+  move_cube(scene, -0.45f);
+  draw_top_view(renderer, scene, lights, sky, settings, 1);
+  EXPECT_EQ(renderer.read().samples[far], float(settings.samples)) << "kept from history";
+  EXPECT_EQ(renderer.read_sample_moments()[far], moments[far]);
+}
+
 TEST_F(TemporalTest, AStillPixelInContactWithWhatMovedKeepsItsValueWhereNothingChanged) {
   auto cube_at = [](float x) {
     return std::vector<glm::mat4>{glm::translate(glm::mat4(1.0f), glm::vec3(x, 0, -0.45f)), glm::mat4(1.0f)};
