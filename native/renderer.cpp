@@ -445,7 +445,7 @@ void Renderer::begin(GpuScene& scene, const Camera& camera, const std::vector<Li
   frame_data_.previous_camera_forward = drawn.camera_forward;
   std::vector<glm::mat4> transforms;
   for (const Instance& instance : scene.instances()) transforms.push_back(instance.object_to_world);
-  previous_transforms_ = has_history_ ? drawn_transforms_ : transforms;
+  instance_motions_ = world_motions(has_history_ ? drawn_transforms_ : transforms, transforms);
   if (has_history_ && scene_changed && last_changes_) {
     auto put = [](const Bounds& box, glm::vec4& lo, glm::vec4& hi) {
       lo = glm::vec4(box.lo, 1.0f), hi = glm::vec4(box.hi, 1.0f);
@@ -597,7 +597,7 @@ void Renderer::add_frame() {
   };
   context_.submit_and_wait([&](VkCommandBuffer cmd) {
     shading_timer_.begin(cmd);
-    gbuffer_.record(cmd, *scene_, frame_buffer_, field_voxels_, previous_transforms_);
+    gbuffer_.record(cmd, *scene_, frame_buffer_, field_voxels_, instance_motions_);
     shading_timer_.mark(cmd, "gbuffer");
     if (keeps) {
       temporal_.record_keep(cmd, gbuffer_, temporal_images, frame_buffer_, light_buffer_, temporal);

@@ -339,7 +339,7 @@ class Renderer {
   uint64_t drawn_scene_id_ = 0;   // the scene, transforms and camera the last accumulation drew
   std::vector<glm::mat4> drawn_transforms_;
   gpu::FrameData drawn_frame_{};
-  std::vector<glm::mat4> previous_transforms_;  // per instance, for the G-buffer's motion
+  std::vector<glm::mat4> instance_motions_;  // per instance, for the G-buffer's motion (world_motions)
   std::optional<GpuScene::Changes> last_changes_;  // taken by the last rebuild_sdfs
 };
 

@@ -52,6 +52,8 @@ vec3 sample_image(GpuMaterial m, vec2 uv) {
 }
 
 vec3 base_color() {
+  // (GBufferPass draws with kMaterialInputs only instances with slots; the
+  // count's test keeps `material_count - 1` from wrapping if one had none)
   if (!kMaterialInputs || pc.material_count == 0u) return pc.base_color.rgb;
   uint slot = min(v_slot, pc.material_count - 1u);
   GpuMaterial m = materials[pc.first_material + slot];

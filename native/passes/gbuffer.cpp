@@ -8,6 +8,7 @@
 #include "spirv/spirv_gbuffer_frag.h"
 #include "spirv/spirv_gbuffer_vert.h"
 #include "error.h"
+#include "march_fields.h"
 #include "vk/context.h"
 
 namespace rtsdf {
@@ -27,19 +28,20 @@ const vk::RenderTargets kTargets{{kColor, kColor, kColor, kColor}, kDepth};
 // An affine transform as GBufferPush holds it: the rows of its 3x4 matrix.
 glm::mat3x4 affine_rows(const glm::mat4& m) { return glm::mat3x4(glm::row(m, 0), glm::row(m, 1), glm::row(m, 2)); }
 
-// Where a point of an instance, placed by `now`, was when `before` placed
-// it. A transform that flattens the instance has no inverse: its motion is
-// then taken as its origin's.
-glm::mat4 world_to_previous_world(const glm::mat4& before, const glm::mat4& now) {
-  if (before == now) return glm::mat4(1.0f);
-  const glm::dmat4 now_d(now);
-  const double det = glm::determinant(glm::dmat3(now_d));
-  const double scale = glm::length(glm::dvec3(now_d[0])) * glm::length(glm::dvec3(now_d[1])) *
-                       glm::length(glm::dvec3(now_d[2]));
-  if (!(std::abs(det) > 1e-12 * scale)) return glm::translate(glm::mat4(1.0f), glm::vec3(before[3] - now[3]));
-  return glm::mat4(glm::dmat4(before) * glm::inverse(now_d));
-}
 }  // namespace
+
+std::vector<glm::mat4> world_motions(const std::vector<glm::mat4>& before, const std::vector<glm::mat4>& now) {
+  if (before.size() != now.size()) throw Error("world_motions: one placement before per placement now");
+  std::vector<glm::mat4> motions(now.size(), glm::mat4(1.0f));
+  for (size_t i = 0; i < now.size(); ++i) {
+    if (before[i] == now[i]) continue;
+    const glm::vec2 stretch = singular_value_range(glm::mat3(now[i]));
+    motions[i] = stretch.x > kDegenerateScale * stretch.y
+                     ? glm::mat4(glm::dmat4(before[i]) * glm::inverse(glm::dmat4(now[i])))
+                     : glm::translate(glm::mat4(1.0f), glm::vec3(before[i][3] - now[i][3]));
+  }
+  return motions;
+}
 
 GBufferPass::GBufferPass(const vk::Context& context)
     : context_(context),
@@ -65,11 +67,9 @@ void GBufferPass::resize(int width, int height) {
 }
 
 void GBufferPass::record(VkCommandBuffer cmd, const GpuScene& scene, const vk::Buffer& frame,
-                         const std::vector<float>& field_voxels,
-                         const std::vector<glm::mat4>& previous_transforms) const {
+                         const std::vector<float>& field_voxels, const std::vector<glm::mat4>& motions) const {
   if (field_voxels.size() != scene.instances().size()) throw Error("GBufferPass: one field voxel per instance");
-  if (previous_transforms.size() != scene.instances().size())
-    throw Error("GBufferPass: one previous transform per instance");
+  if (motions.size() != scene.instances().size()) throw Error("GBufferPass: one motion per instance");
   VkClearValue clears[5]{};
   clears[4].depthStencil = {1.0f, 0};
   VkRenderPassBeginInfo begin{VK_STRUCTURE_TYPE_RENDER_PASS_BEGIN_INFO};
@@ -103,8 +103,7 @@ void GBufferPass::record(VkCommandBuffer cmd, const GpuScene& scene, const vk::B
     }
     gpu::GBufferPush push{};
     push.object_to_world = affine_rows(instance.object_to_world);
-    push.world_to_previous_world =
-        affine_rows(world_to_previous_world(previous_transforms[i], instance.object_to_world));
+    push.world_to_previous_world = affine_rows(motions[i]);
     push.base_color = glm::vec4(scene.instance_color(uint32_t(i)), instance.holdout ? gpu::kHoldoutSurface : gpu::kShadedSurface);
     push.field_voxel = field_voxels[i];
     push.first_material = slots.x;

@@ -12,6 +12,13 @@
 
 namespace rtsdf {
 
+// Where each instance's points were in the last frame, from where they are
+// now: per instance, world to last frame's world, from its object_to_world
+// then (`before`) and now (the identity where it stayed). A transform that
+// flattens the instance (kDegenerateScale, as the fields judge it) has no
+// inverse: its motion is its origin's. Made once per change, not per frame.
+std::vector<glm::mat4> world_motions(const std::vector<glm::mat4>& before, const std::vector<glm::mat4>& now);
+
 class GBufferPass {
  public:
   explicit GBufferPass(const vk::Context& context);
@@ -19,10 +26,10 @@ class GBufferPass {
   void resize(int width, int height);
   // `frame` holds one gpu::FrameData; `field_voxels`, per instance, the
   // world voxel size of the field holding it (0: in none), which the
-  // shading's receiver offsets are measured in. `previous_transforms`, per
-  // instance, its object_to_world in the last frame (for motion).
+  // shading's receiver offsets are measured in. `motions`, per instance,
+  // where its points were in the last frame (world_motions).
   void record(VkCommandBuffer cmd, const GpuScene& scene, const vk::Buffer& frame,
-              const std::vector<float>& field_voxels, const std::vector<glm::mat4>& previous_transforms) const;
+              const std::vector<float>& field_voxels, const std::vector<glm::mat4>& motions) const;
 
   const vk::Image& position() const { return position_; }
   const vk::Image& normal() const { return normal_; }
