@@ -6,8 +6,9 @@
 // frame's sample, before any shading, and the resolve
 // (temporal_resolve.comp) decides the rest with the sample.
 // Needs: the TemporalPush `pc`, g_position, g_motion, history_color,
-// history_passes, resolved_color, resolved_passes, the Frame buffer `frame`,
-// the lights and the tile lists `tile_words` (kept_tiles.glsl.h).
+// history_passes, resolved_color, resolved_passes, resolved_moments, the
+// Frame buffer `frame`, the lights and the tile lists `tile_words`
+// (kept_tiles.glsl.h).
 #include "ray_box.glsl.h"
 #include "kept_tiles.glsl.h"
 
@@ -256,9 +257,11 @@ float seen_depth(vec4 position) {
   return position.w > 0.0 ? dot(position.xyz - frame.camera_position.xyz, frame.camera_forward.xyz) : kNothingHitDepth;
 }
 
-// A settled pixel's resolved accumulation: history as it was, with this
-// frame's coverage and depths (as the shading writes them in a first frame).
-void resolve_settled(ivec2 pixel, vec4 position, History h) {
+// A settled pixel's resolved accumulation: history as it was (its second
+// moments `moments`, history's at this pixel: a settled pixel stays where
+// it was), with this frame's coverage and depths (as the shading writes
+// them in a first frame).
+void resolve_settled(ivec2 pixel, vec4 position, History h, vec4 moments) {
   bool background = position.w <= 0.0;
   float seen = seen_depth(position);
   float coverage = !background && position.w < 0.5 * (kShadedSurface + kHoldoutSurface) ? 1.0 : 0.0;
@@ -266,4 +269,5 @@ void resolve_settled(ivec2 pixel, vec4 position, History h) {
   imageStore(resolved_color, pixel, vec4(h.color.rgb, coverage));
   imageStore(resolved_passes, pixel, vec4(min(seen, h.nearest + moved), h.shadow, float(pc.history_samples),
                                           max(seen, h.farthest + moved)));
+  imageStore(resolved_moments, pixel, moments);
 }

@@ -40,8 +40,7 @@ void main() {
     list_tile(pixel_tiles(), ivec2(gl_WorkGroupID.xy));  // (for the pixel passes and the resolve)
     return;
   }
-  resolve_settled(pixel, position, h);
-  imageStore(resolved_moments, pixel, imageLoad(history_moments, pixel));  // (still: history where it was)
+  resolve_settled(pixel, position, h, imageLoad(history_moments, pixel));
   // (its sample, for its neighbours in the resolve; the passes as the shading would write them)
   float seen = seen_depth(position);
   imageStore(accum_color, pixel, h.color);

@@ -145,8 +145,7 @@ void main() {
   bool shadow_moved = h.shadow_may_move && abs(shadow - h.shadow) >= kSameShadow;
   bool still = h.still && !shadow_moved;
   if (still && h.away) {  // settled
-    resolve_settled(pixel, position, h);
-    imageStore(resolved_moments, pixel, history_second);
+    resolve_settled(pixel, position, h, history_second);
     return;
   }
 
@@ -194,8 +193,7 @@ void main() {
   // the contact shadow did change, the clip moves history and the sample
   // is blended in, as before.
   if (still && scale <= 1.0) {
-    resolve_settled(pixel, position, h);
-    imageStore(resolved_moments, pixel, history_second);
+    resolve_settled(pixel, position, h, history_second);
     return;
   }
   // (the shadow pass follows the colour: clipped by the same share)
