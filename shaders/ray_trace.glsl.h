@@ -20,48 +20,68 @@ float box_entry(vec3 origin, vec3 inv_dir, vec4 lo, vec4 hi, float t_max) {
   return enter <= min(span.y, t_max) ? enter : 3.0e38;
 }
 
+// Both children of an inner node are tested where it is reached and the
+// nearer taken first, the other kept with its entry distance: a closest hit
+// found early then culls the farther boxes without reading them again.
+vec2 child_entries(BvhNode left, BvhNode right, vec3 origin, vec3 inv_dir, float best_t) {
+  return vec2(box_entry(origin, inv_dir, left.lo, left.hi, best_t), box_entry(origin, inv_dir, right.lo, right.hi, best_t));
+}
+
 // any_hit: stop at the first hit within best_t, not the closest (a shadow ray
 // only asks whether there is one).
 void trace_mesh(uint root, vec3 origin, vec3 dir, bool mirrored, bool any_hit, inout float best_t, inout bool front,
                 inout uint best_triangle) {
   vec3 inv_dir = safe_inverse(dir);
   uint stack[RTSDF_STACK];
+  float stack_entry[RTSDF_STACK];
   int top = 0;
-  stack[top++] = root;
-  while (top > 0) {
-    BvhNode node = bottom_nodes[stack[--top]];
-    if (box_entry(origin, inv_dir, node.lo, node.hi, best_t) >= best_t) continue;
+  BvhNode node = bottom_nodes[root];
+  if (box_entry(origin, inv_dir, node.lo, node.hi, best_t) >= best_t) return;
+  while (true) {
     if (node.count == 0u) {
-      if (top + 2 <= RTSDF_STACK) { stack[top++] = node.first; stack[top++] = node.first + 1u; }
-      continue;
-    }
-    for (uint i = node.first; i < node.first + node.count; ++i) {
-      // Moeller-Trumbore; det > 0 when the ray meets the counter-clockwise (front) side.
-      vec3 a = triangle_corners[3u * i].xyz;
-      vec3 e1 = triangle_corners[3u * i + 1u].xyz - a, e2 = triangle_corners[3u * i + 2u].xyz - a;
-      vec3 p = cross(dir, e2);
-      float det = dot(e1, p);
-      if (abs(det) < 1e-20) continue;
-      float inv_det = 1.0 / det;
-      vec3 s = origin - a;
-      float u = dot(s, p) * inv_det;
-      if (u < 0.0 || u > 1.0) continue;
-      vec3 q = cross(s, e1);
-      float v = dot(dir, q) * inv_det;
-      if (v < 0.0 || u + v > 1.0) continue;
-      float t = dot(e2, q) * inv_det;
-      // (t = 0 counts for a sheet's triangle: a fine texel whose centre lies
-      // on a sheet - a flat mesh in the middle of its grid - finds it only so,
-      // and read as clear of it. Not for a volume's: where solids touch (a
-      // wall under a ceiling) such a face lies inside, and found it reads as a crack.)
-      bool counts = t > 0.0 || (t == 0.0 && triangle_corners[3u * i].w == 0.0);
-      if (counts && t < best_t) {
-        best_t = t;
-        front = (det > 0.0) != mirrored;
-        best_triangle = i;
-        if (any_hit) return;
+      vec2 entry = child_entries(bottom_nodes[node.first], bottom_nodes[node.first + 1u], origin, inv_dir, best_t);
+      uint nearer = node.first + (entry.y < entry.x ? 1u : 0u);
+      if (min(entry.x, entry.y) < best_t) {
+        if (max(entry.x, entry.y) < best_t && top < RTSDF_STACK) {
+          stack[top] = (2u * node.first + 1u) - nearer;  // (the other child)
+          stack_entry[top++] = max(entry.x, entry.y);
+        }
+        node = bottom_nodes[nearer];
+        continue;
+      }
+    } else {
+      for (uint i = node.first; i < node.first + node.count; ++i) {
+        // Moeller-Trumbore; det > 0 when the ray meets the counter-clockwise (front) side.
+        vec3 a = triangle_corners[3u * i].xyz;
+        vec3 e1 = triangle_corners[3u * i + 1u].xyz - a, e2 = triangle_corners[3u * i + 2u].xyz - a;
+        vec3 p = cross(dir, e2);
+        float det = dot(e1, p);
+        if (abs(det) < 1e-20) continue;
+        float inv_det = 1.0 / det;
+        vec3 s = origin - a;
+        float u = dot(s, p) * inv_det;
+        if (u < 0.0 || u > 1.0) continue;
+        vec3 q = cross(s, e1);
+        float v = dot(dir, q) * inv_det;
+        if (v < 0.0 || u + v > 1.0) continue;
+        float t = dot(e2, q) * inv_det;
+        // (t = 0 counts for a sheet's triangle: a fine texel whose centre lies
+        // on a sheet - a flat mesh in the middle of its grid - finds it only so,
+        // and read as clear of it. Not for a volume's: where solids touch (a
+        // wall under a ceiling) such a face lies inside, and found it reads as a crack.)
+        bool counts = t > 0.0 || (t == 0.0 && triangle_corners[3u * i].w == 0.0);
+        if (counts && t < best_t) {
+          best_t = t;
+          front = (det > 0.0) != mirrored;
+          best_triangle = i;
+          if (any_hit) return;
+        }
       }
     }
+    // (kept boxes the ray now meets beyond its closest hit are skipped unread)
+    while (top > 0 && stack_entry[top - 1] >= best_t) --top;
+    if (top == 0) return;
+    node = bottom_nodes[stack[--top]];
   }
 }
 
@@ -83,25 +103,37 @@ float trace_scene(vec3 origin, vec3 dir, float t_max, bool any_hit, out bool fro
   // which drivers order differently in min and max)
   vec3 inv_dir = safe_inverse(dir);
   uint stack[RTSDF_STACK];
+  float stack_entry[RTSDF_STACK];
   int top = 0;
-  stack[top++] = 0u;
-  while (top > 0) {
-    BvhNode node = top_nodes[stack[--top]];
-    if (box_entry(origin, inv_dir, node.lo, node.hi, best_t) >= best_t) continue;
-    if (node.count == 0u) {
-      if (top + 2 <= RTSDF_STACK) { stack[top++] = node.first; stack[top++] = node.first + 1u; }
-      continue;
+  BvhNode node = top_nodes[0];
+  if (box_entry(origin, inv_dir, node.lo, node.hi, best_t) >= best_t) return best_t;
+  while (true) {
+    if (node.count == 0u) {  // (nearer child first, as in trace_mesh)
+      vec2 entry = child_entries(top_nodes[node.first], top_nodes[node.first + 1u], origin, inv_dir, best_t);
+      uint nearer = node.first + (entry.y < entry.x ? 1u : 0u);
+      if (min(entry.x, entry.y) < best_t) {
+        if (max(entry.x, entry.y) < best_t && top < RTSDF_STACK) {
+          stack[top] = (2u * node.first + 1u) - nearer;
+          stack_entry[top++] = max(entry.x, entry.y);
+        }
+        node = top_nodes[nearer];
+        continue;
+      }
+    } else {
+      for (uint i = node.first; i < node.first + node.count; ++i) {
+        RayInstance inst = instances[i];
+        // Unnormalized object-space direction keeps t in world units.
+        vec3 o = (inst.world_to_object * vec4(origin, 1.0)).xyz;
+        vec3 d = mat3(inst.world_to_object) * dir;
+        float before = best_t;
+        trace_mesh(inst.blas_root, o, d, inst.mirrored != 0u, any_hit, best_t, front, hit_triangle);
+        if (best_t < before) hit_instance = i;
+        if (any_hit && best_t < t_max) return best_t;
+      }
     }
-    for (uint i = node.first; i < node.first + node.count; ++i) {
-      RayInstance inst = instances[i];
-      // Unnormalized object-space direction keeps t in world units.
-      vec3 o = (inst.world_to_object * vec4(origin, 1.0)).xyz;
-      vec3 d = mat3(inst.world_to_object) * dir;
-      float before = best_t;
-      trace_mesh(inst.blas_root, o, d, inst.mirrored != 0u, any_hit, best_t, front, hit_triangle);
-      if (best_t < before) hit_instance = i;
-      if (any_hit && best_t < t_max) return best_t;
-    }
+    while (top > 0 && stack_entry[top - 1] >= best_t) --top;
+    if (top == 0) break;
+    node = top_nodes[stack[--top]];
   }
   return best_t;
 }
