@@ -6,8 +6,8 @@
 // frame's sample, before any shading, and the resolve
 // (temporal_resolve.comp) decides the rest with the sample.
 // Needs: the TemporalPush `pc`, g_position, g_motion, history_color,
-// history_passes, resolved_color, resolved_passes, resolved_moments, the
-// Frame buffer `frame`, the lights and the tile lists `tile_words`
+// history_passes, resolved_color and resolved_passes (History handed on),
+// the Frame buffer `frame`, the lights and the tile lists `tile_words`
 // (kept_tiles.glsl.h).
 #include "ray_box.glsl.h"
 #include "kept_tiles.glsl.h"
@@ -219,16 +219,25 @@ bool settled_before_sample(History h) {
 const uint kHistoryDisoccluded = 1u, kHistoryFrontMoved = 2u, kHistoryStill = 4u, kHistoryAway = 8u,
            kHistoryShadowMayMove = 16u;
 
-void hand_history_on(ivec2 pixel, History h) {
+// A pixel's resolved accumulation, as a temporal pass decides it and then
+// writes it, each image once: on lavapipe every image access in a shader's
+// code costs its lanes, whichever branch they took.
+struct Resolved {
+  vec4 color;
+  vec4 passes;
+  vec4 moments;
+};
+
+// The History handed on, in the places of the resolved colour and passes (handed_history reads it).
+Resolved history_handed_on(History h) {
   uint flags = (h.disoccluded ? kHistoryDisoccluded : 0u) | (h.front_moved ? kHistoryFrontMoved : 0u) |
                (h.still ? kHistoryStill : 0u) | (h.away ? kHistoryAway : 0u) |
                (h.shadow_may_move ? kHistoryShadowMayMove : 0u);
-  imageStore(resolved_color, pixel, vec4(h.color.rgb, float(flags)));
-  imageStore(resolved_passes, pixel, vec4(h.shadow, h.samples, h.nearest, h.farthest));
+  return Resolved(vec4(h.color.rgb, float(flags)), vec4(h.shadow, h.samples, h.nearest, h.farthest), vec4(0.0));
 }
 
 #ifdef RTSDF_TAKES_HISTORY
-// The History the keep pass handed on (hand_history_on); read before the
+// The History the keep pass handed on (history_handed_on); read before the
 // resolve writes those images.
 History handed_history(ivec2 pixel) {
   vec4 color = imageLoad(resolved_color, pixel), passes = imageLoad(resolved_passes, pixel);
@@ -261,13 +270,12 @@ float seen_depth(vec4 position) {
 // moments `moments`, history's at this pixel: a settled pixel stays where
 // it was), with this frame's coverage and depths (as the shading writes
 // them in a first frame).
-void resolve_settled(ivec2 pixel, vec4 position, History h, vec4 moments) {
+Resolved settled(vec4 position, History h, vec4 moments) {
   bool background = position.w <= 0.0;
   float seen = seen_depth(position);
   float coverage = !background && position.w < 0.5 * (kShadedSurface + kHoldoutSurface) ? 1.0 : 0.0;
   float moved = background ? 0.0 : seen - h.previous_depth;  // (history's depths move as the point did)
-  imageStore(resolved_color, pixel, vec4(h.color.rgb, coverage));
-  imageStore(resolved_passes, pixel, vec4(min(seen, h.nearest + moved), h.shadow, float(pc.history_samples),
-                                          max(seen, h.farthest + moved)));
-  imageStore(resolved_moments, pixel, moments);
+  return Resolved(vec4(h.color.rgb, coverage),
+                  vec4(min(seen, h.nearest + moved), h.shadow, float(pc.history_samples), max(seen, h.farthest + moved)),
+                  moments);
 }

@@ -34,15 +34,23 @@ void main() {
   if (any(greaterThanEqual(pixel, pc.image_size))) return;
   vec4 position = imageLoad(g_position, pixel);
   History h = find_history(pixel, position);
-  if (!settled_before_sample(h)) {
-    imageStore(accum_passes, pixel, vec4(0.0));  // (shaded as usual)
-    hand_history_on(pixel, h);                   // (for the resolve)
-    list_tile(pixel_tiles(), ivec2(gl_WorkGroupID.xy));  // (for the pixel passes and the resolve)
-    return;
-  }
-  resolve_settled(pixel, position, h, imageLoad(history_moments, pixel));
-  // (its sample, for its neighbours in the resolve; the passes as the shading would write them)
+  bool kept = settled_before_sample(h);
+  // Kept: resolved here, and its sample (for its neighbours in the resolve;
+  // the passes as the shading would write them). Else shaded as usual, and
+  // its History handed on to the resolve.
+  Resolved r;
+  if (kept)
+    r = settled(position, h, imageLoad(history_moments, pixel));
+  else
+    r = history_handed_on(h);
   float seen = seen_depth(position);
-  imageStore(accum_color, pixel, h.color);
-  imageStore(accum_passes, pixel, vec4(seen, h.shadow, kKeptSample, seen));
+  imageStore(resolved_color, pixel, r.color);
+  imageStore(resolved_passes, pixel, r.passes);
+  imageStore(accum_passes, pixel, kept ? vec4(seen, h.shadow, kKeptSample, seen) : vec4(0.0));
+  if (kept) {
+    imageStore(resolved_moments, pixel, r.moments);
+    imageStore(accum_color, pixel, h.color);
+  } else {
+    list_tile(pixel_tiles(), ivec2(gl_WorkGroupID.xy));  // (for the pixel passes and the resolve)
+  }
 }

@@ -106,20 +106,10 @@ vec3 filtered_sample(ivec2 pixel, vec3 p, vec3 current, inout float shadow) {
   return light / weights * albedo;
 }
 
-void main() {
-  // Every tile, or those the keep pass listed: the rest it kept whole.
-  ivec2 tile = kListedTiles == 1u ? listed_tile(pixel_tiles()) : ivec2(gl_WorkGroupID.xy);
-  ivec2 pixel = tile * int(kTemporalTile) + ivec2(gl_LocalInvocationID.xy);
-  if (any(greaterThanEqual(pixel, pc.image_size))) return;
-  vec4 passes = imageLoad(accum_passes, pixel);
-  if (passes.z == kKeptSample) return;  // (settled, and resolved by the keep pass)
-  vec4 current = imageLoad(accum_color, pixel);
-  vec4 position = imageLoad(g_position, pixel);
-  History h = kListedTiles == 1u ? handed_history(pixel) : find_history(pixel, position);
-  imageStore(resolved_color, pixel, current);  // (where history cannot help: this sample alone)
-  imageStore(resolved_passes, pixel, passes);
+// The resolved accumulation of a pixel shaded this frame (its sample
+// `current` and `passes`, at G-buffer `position`) with its History h.
+Resolved resolve(ivec2 pixel, vec4 position, vec4 current, vec4 passes, History h) {
   const vec4 sample_second = sample_moments(current.rgb);  // (the sample's own, before any filter)
-  imageStore(resolved_moments, pixel, sample_second);
   bool background = position.w <= 0.0;
   bool surface = !background && position.w < 0.5 * (kShadedSurface + kHoldoutSurface);
 
@@ -130,10 +120,7 @@ void main() {
   float shadow = passes.y;
   if (surface && (h.disoccluded || h.shadow_may_move || !h.still || !h.away))
     current.rgb = filtered_sample(pixel, position.xyz, current.rgb, shadow);
-  if (h.disoccluded) {
-    imageStore(resolved_color, pixel, current);
-    return;
-  }
+  if (h.disoccluded) return Resolved(current, passes, sample_second);  // (where history cannot help: this sample alone)
   // History's second moments: a still pixel's are its own texel's (it
   // stays where it was on screen); a moving pixel's samples' spread is not
   // carried (its neighbourhood alone judges their noise).
@@ -144,10 +131,7 @@ void main() {
   // new sample there made them shimmer.
   bool shadow_moved = h.shadow_may_move && abs(shadow - h.shadow) >= kSameShadow;
   bool still = h.still && !shadow_moved;
-  if (still && h.away) {  // settled
-    resolve_settled(pixel, position, h, history_second);
-    return;
-  }
+  if (still && h.away) return settled(position, h, history_second);
 
   // The neighbourhood's mean and spread in YCoCg (this frame's samples, same coverage).
   // For a still pixel the spread stands for the samples' noise, which decides
@@ -192,10 +176,7 @@ void main() {
   // scenes; the shown frame's error the same or lower on 10 of 12). Where
   // the contact shadow did change, the clip moves history and the sample
   // is blended in, as before.
-  if (still && scale <= 1.0) {
-    resolve_settled(pixel, position, h, history_second);
-    return;
-  }
+  if (still && scale <= 1.0) return settled(position, h, history_second);
   // (the shadow pass follows the colour: clipped by the same share)
   float kept = scale > 1.0 ? 1.0 / scale : 1.0;
   float shadow_history = mix(passes.y, h.shadow, kept);
@@ -204,12 +185,26 @@ void main() {
   if (h.front_moved) samples = min(samples, kNearbyHistorySamples);
   if (shadow_moved) samples = min(samples, pc.moved_shadow_samples);
   float w = 1.0 / (samples + 1.0);  // this frame's sample's share
-  imageStore(resolved_color, pixel, vec4(mix(clipped, current.rgb, w), current.a));
-  imageStore(resolved_moments, pixel,
-             mix(moments_moved_to(history_second, h.color.rgb, clipped), sample_second, w));
   // History's depths, moved as this surface point moved in depth since.
   float moved = background ? 0.0 : passes.x - h.previous_depth;
-  imageStore(resolved_passes, pixel, vec4(min(passes.x, h.nearest + moved), mix(shadow_history, passes.y, w),
-                                          samples + 1.0,
-                                          max(passes.w, h.farthest + moved)));
+  return Resolved(vec4(mix(clipped, current.rgb, w), current.a),
+                  vec4(min(passes.x, h.nearest + moved), mix(shadow_history, passes.y, w), samples + 1.0,
+                       max(passes.w, h.farthest + moved)),
+                  mix(moments_moved_to(history_second, h.color.rgb, clipped), sample_second, w));
+}
+
+void main() {
+  // Every tile, or those the keep pass listed: the rest it kept whole.
+  ivec2 tile = kListedTiles == 1u ? listed_tile(pixel_tiles()) : ivec2(gl_WorkGroupID.xy);
+  ivec2 pixel = tile * int(kTemporalTile) + ivec2(gl_LocalInvocationID.xy);
+  if (any(greaterThanEqual(pixel, pc.image_size))) return;
+  vec4 passes = imageLoad(accum_passes, pixel);
+  if (passes.z == kKeptSample) return;  // (settled, and resolved by the keep pass)
+  vec4 position = imageLoad(g_position, pixel);
+  // (History handed on is read before the resolved images are written over it)
+  History h = kListedTiles == 1u ? handed_history(pixel) : find_history(pixel, position);
+  Resolved r = resolve(pixel, position, imageLoad(accum_color, pixel), passes, h);
+  imageStore(resolved_color, pixel, r.color);
+  imageStore(resolved_passes, pixel, r.passes);
+  imageStore(resolved_moments, pixel, r.moments);
 }
