@@ -111,6 +111,29 @@ Bvh build_mesh_bvh(const Mesh& mesh) {
   return build_bvh(boxes);
 }
 
+void refit_mesh_bvh(Bvh& bvh, const Mesh& mesh) {
+  // (children come after their parent: from the last node back, they are made first)
+  for (size_t n = bvh.nodes.size(); n-- > 0;) {
+    BvhBuildNode& node = bvh.nodes[n];
+    Aabb box;
+    if (node.count > 0) {
+      for (uint32_t i = node.first; i < node.first + node.count; ++i)
+        for (int k = 0; k < 3; ++k) box.grow(mesh.positions[mesh.indices[3 * size_t(bvh.order[i]) + k]]);
+    } else {
+      box.grow(bvh.nodes[node.first].box);
+      box.grow(bvh.nodes[node.first + 1].box);
+    }
+    node.box = box;
+  }
+}
+
+float bvh_cost(const Bvh& bvh) {
+  if (bvh.nodes.empty() || !(bvh.nodes[0].box.area() > 0.0f)) return 0.0f;
+  double areas = 0.0;
+  for (const BvhBuildNode& node : bvh.nodes) areas += node.box.area();
+  return float(areas / bvh.nodes[0].box.area());
+}
+
 std::vector<gpu::BvhNode> gpu_nodes(const Bvh& bvh, uint32_t node_offset, uint32_t primitive_offset) {
   std::vector<gpu::BvhNode> nodes;
   nodes.reserve(bvh.nodes.size());

@@ -47,4 +47,14 @@ std::vector<gpu::BvhNode> gpu_nodes(const Bvh& bvh, uint32_t node_offset = 0, ui
 // Bottom level of one mesh: triangles in object space.
 Bvh build_mesh_bvh(const Mesh& mesh);
 
+// The boxes of a mesh's bottom level made anew, leaves up, for the moved
+// vertices of the triangles it was built over (a deformation keeps them and
+// their order): the tree stays, at a fraction of a build's cost.
+void refit_mesh_bvh(Bvh& bvh, const Mesh& mesh);
+
+// The nodes' box areas summed, over the root's: a tree's cost to trace (the
+// SAH's, up to constants). A refitted tree's grows as its mesh deforms away
+// from the pose it was built for.
+float bvh_cost(const Bvh& bvh);
+
 }  // namespace rtsdf

@@ -18,6 +18,11 @@ namespace rtsdf {
 namespace {
 
 using Clock = std::chrono::steady_clock;
+
+// A deformed mesh's refitted tree is kept while it costs at most this much
+// more to trace than when it was built (bvh_cost); beyond, it is built anew.
+constexpr float kRefitCostLimit = 1.5f;
+
 double ms_since(Clock::time_point start) {
   return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
 }
@@ -250,10 +255,18 @@ void GpuScene::upload_materials() {
   texels_ = storage(context_, texels);
 }
 
-void GpuScene::build_bottom_level(uint32_t mesh) {
+void GpuScene::build_bottom_level(uint32_t mesh, bool same_triangles) {
   const Mesh& geometry = scene_.meshes[mesh];
   BottomLevel& level = bottom_levels_[mesh];
-  level.bvh = build_mesh_bvh(geometry);
+  bool refitted = same_triangles && level.bvh.order.size() == geometry.triangle_count() && level.built_cost > 0.0f;
+  if (refitted) {
+    refit_mesh_bvh(level.bvh, geometry);
+    refitted = bvh_cost(level.bvh) <= kRefitCostLimit * level.built_cost;
+  }
+  if (!refitted) {
+    level.bvh = build_mesh_bvh(geometry);
+    level.built_cost = bvh_cost(level.bvh);
+  }
   level.pieces = mesh_pieces(geometry);
   level.dipoles = winding_dipoles(level.bvh, geometry, level.pieces);
   // The first corner's w is the thickness of the triangle's piece (0: a
@@ -387,6 +400,7 @@ void GpuScene::set_mesh(uint32_t mesh, Mesh geometry) {
   // In place, checked as a whole through the extents (no copy of the scene
   // every frame a mesh deforms), and put back if the scene would be unusable.
   Mesh previous = std::exchange(current, std::move(geometry));
+  const bool same_triangles = current.indices == previous.indices;
   MeshExtent previous_extent = std::exchange(extents_[mesh], MeshExtent(current));
   try {
     std::vector<uint32_t> all(scene_.instances.size());
@@ -406,7 +420,7 @@ void GpuScene::set_mesh(uint32_t mesh, Mesh geometry) {
   if (!in_place) upload_raster();
   if (!has_ray_structures_) return;
   Clock::time_point start = Clock::now();
-  build_bottom_level(mesh);
+  build_bottom_level(mesh, same_triangles);
   if (!in_place || !write_bottom_level_in_place(mesh)) upload_bottom_levels();
   build_top_level();
   bvh_build_ms_ = ms_since(start);

@@ -124,7 +124,9 @@ class GpuScene {
   // their counts (a deformation); false when its range would change size.
   bool write_raster_in_place(uint32_t mesh);
   void upload_materials();
-  void build_bottom_level(uint32_t mesh);
+  // same_triangles: the mesh deformed (its triangles as they were, moved):
+  // its tree is refitted, unless that made it too costly to trace.
+  void build_bottom_level(uint32_t mesh, bool same_triangles = false);
   void upload_bottom_levels();
   // Rewrites one mesh's bottom level where it is, when it keeps its triangle
   // count and its nodes fit its range; false otherwise.
@@ -163,6 +165,7 @@ class GpuScene {
   // its own, and the others' are copied, not derived again.
   struct BottomLevel {
     Bvh bvh;
+    float built_cost = 0.0f;  // bvh_cost when the tree was built (its refits are held to it)
     Pieces pieces;  // (see mesh_topology.h)
     std::vector<gpu::WindingDipole> dipoles;
     std::vector<glm::vec4> corners;  // as in RayStructures::triangles
