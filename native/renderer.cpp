@@ -397,26 +397,21 @@ void Renderer::begin(GpuScene& scene, const Camera& camera, const std::vector<Li
   temporal_.resize(glm::ivec2(width, height));
   shade_.resize(glm::ivec2(width, height), light_count_);
   // History: the accumulation so far, if it drew this scene at this size.
-  has_history_ = settings.temporal_reuse && same_look && frame_ > 0 && accum_color_.handle() && width == width_ &&
+  has_history_ = settings.temporal_reuse && same_look && frame_ > 0 && accum_.color.handle() && width == width_ &&
                  height == height_ && drawn_scene_id_ == scene.id() &&
                  drawn_transforms_.size() == scene.instances().size();
-  const bool size_changed = width != width_ || height != height_ || !accum_color_.handle();
-  if (size_changed || (settings.temporal_reuse && !history_color_.handle())) {
+  const bool size_changed = width != width_ || height != height_ || !accum_.color.handle();
+  if (size_changed || (settings.temporal_reuse && !history_.color.handle())) {
     const VkImageUsageFlags usage = VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
-    std::vector<vk::Image*> planes = {&accum_color_, &accum_passes_, &accum_moments_};
-    if (settings.temporal_reuse)
-      planes.insert(planes.end(), {&history_color_, &history_passes_, &history_moments_, &resolved_color_,
-                                   &resolved_passes_, &resolved_moments_});
-    for (vk::Image* plane : planes) {
-      *plane = vk::Image::plane(context_, width, height, VK_FORMAT_R32G32B32A32_SFLOAT, usage);
-      vk::make_general(context_, {plane});
-    }
+    std::vector<Accumulation*> accumulations = {&accum_};
+    if (settings.temporal_reuse) accumulations.insert(accumulations.end(), {&history_, &resolved_});
+    for (Accumulation* accumulation : accumulations)
+      for (vk::Image* plane : {&accumulation->color, &accumulation->passes, &accumulation->moments}) {
+        *plane = vk::Image::plane(context_, width, height, VK_FORMAT_R32G32B32A32_SFLOAT, usage);
+        vk::make_general(context_, {plane});
+      }
   }
-  if (has_history_) {
-    std::swap(history_color_, accum_color_);
-    std::swap(history_passes_, accum_passes_);
-    std::swap(history_moments_, accum_moments_);
-  }
+  if (has_history_) std::swap(history_, accum_);
   width_ = width;
   height_ = height;
 
@@ -589,8 +584,8 @@ void Renderer::add_frame() {
   const bool keeps = resolves && same_lighting_ && camera_stayed_;
   push_.kept_history = keeps ? 1u : 0u;
   const gpu::TemporalPush temporal = resolves ? temporal_push() : gpu::TemporalPush{};
-  const TemporalImages temporal_images{accum_color_,     accum_passes_,    history_color_,   history_passes_,
-                                       resolved_color_,  resolved_passes_, history_moments_, resolved_moments_};
+  const TemporalImages temporal_images{accum_.color,    accum_.passes,    history_.color,   history_.passes,
+                                       resolved_.color, resolved_.passes, history_.moments, resolved_.moments};
   auto compute_barrier = [](VkCommandBuffer cmd) {
     vk::memory_barrier(cmd, VK_ACCESS_SHADER_WRITE_BIT, VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT,
                        VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT);
@@ -609,7 +604,7 @@ void Renderer::add_frame() {
     const bool share_lights = settings_.quick_first_frame && frame_ == 0;
     const KeptTiles kept_tiles = temporal_.kept_tiles();
     shade_.record(cmd, {gbuffer_, march_, shadow_maps, rays, light_buffer_, frame_buffer_, &kept_tiles},
-                  {accum_color_, accum_passes_, accum_moments_},
+                  {accum_.color, accum_.passes, accum_.moments},
                   march_sky, share_lights, push_, &shading_timer_);
     shading_timer_.mark(cmd, "shade");
     if (resolves) {
@@ -618,11 +613,7 @@ void Renderer::add_frame() {
       shading_timer_.mark(cmd, "temporal");
     }
   });
-  if (resolves) {
-    std::swap(accum_color_, resolved_color_);
-    std::swap(accum_passes_, resolved_passes_);
-    std::swap(accum_moments_, resolved_moments_);
-  }
+  if (resolves) std::swap(accum_, resolved_);
   drawn_frame_ = frame_data_;
   timings_.shade_ms += ms_since(shading);
   for (const vk::GpuTimer::Span& span : shading_timer_.read()) {
@@ -663,8 +654,8 @@ std::vector<glm::vec4> read_vec4_plane(const vk::Context& context, const vk::Ima
 std::vector<glm::vec4> Renderer::read_motion() const { return read_vec4_plane(context_, gbuffer_.motion()); }
 
 std::vector<glm::vec4> Renderer::read_sample_moments() const {
-  if (!accum_moments_.handle()) return {};
-  return read_vec4_plane(context_, accum_moments_);
+  if (!accum_.moments.handle()) return {};
+  return read_vec4_plane(context_, accum_.moments);
 }
 
 RenderOutput Renderer::read(bool passes) const {
@@ -674,10 +665,10 @@ RenderOutput Renderer::read(bool passes) const {
   out.timings = timings_;
   out.stats = stats_;
   out.samples_done = frame_;
-  if (!accum_color_.handle()) return out;
-  out.combined = read_plane<float>(context_, accum_color_, 4);
+  if (!accum_.color.handle()) return out;
+  out.combined = read_plane<float>(context_, accum_.color, 4);
   if (passes) {
-    std::vector<float> all = read_plane<float>(context_, accum_passes_, 4);
+    std::vector<float> all = read_plane<float>(context_, accum_.passes, 4);
     const size_t pixels = size_t(width_) * height_;
     out.depth.resize(pixels);
     out.shadow.resize(pixels);

@@ -326,13 +326,18 @@ class Renderer {
   std::vector<Bounds> sky_blockers_;   // found with the shadow casters
   vk::Buffer light_buffer_;
   vk::Buffer frame_buffer_;
-  vk::Image accum_color_;
-  vk::Image accum_passes_;  // x = nearest depth, y = shadow, z = samples in the pixel's mean, w = farthest depth
-  vk::Image accum_moments_;  // the samples' second moments (shaders/sample_moments.glsl.h)
+  // Each pixel's running means over its samples, and their second moments:
+  // the images of one accumulation, which change roles together.
+  struct Accumulation {
+    vk::Image color;    // rgb = Combined, a = coverage
+    vk::Image passes;   // x = nearest depth, y = shadow, z = samples in the pixel's mean, w = farthest depth
+    vk::Image moments;  // the samples' second moments (shaders/sample_moments.glsl.h)
+  };
+  Accumulation accum_;
 
   // Temporal reuse: the last accumulation (history) while the first frame
-  // after a change is resolved into resolved_*, which then becomes accum_*.
-  vk::Image history_color_, history_passes_, history_moments_, resolved_color_, resolved_passes_, resolved_moments_;
+  // after a change is resolved into resolved_, which then becomes accum_.
+  Accumulation history_, resolved_;
   bool has_history_ = false;      // this accumulation's first frame reprojects history
   bool camera_stayed_ = false;    // the camera is where history saw it (or there is no history)
   bool same_lighting_ = false;    // the lights and the world are as history saw them (settled pixels may stay)
