@@ -30,18 +30,12 @@ double time_ms(F&& f) {
 // Milliseconds of openvdb::tools::meshToLevelSet (half width 3 voxels) on `grid`.
 inline double openvdb_build_ms(const Scene& scene, const GridSpec& grid) {
   openvdb::initialize();
+  const Mesh placed = placed_mesh(scene);
   std::vector<openvdb::Vec3s> points;
   std::vector<openvdb::Vec3I> triangles;
-  for (const Instance& instance : scene.instances) {
-    const Mesh& mesh = scene.meshes[instance.mesh];
-    uint32_t base = uint32_t(points.size());
-    for (const glm::vec3& p : mesh.positions) {
-      glm::vec4 w = instance.object_to_world * glm::vec4(p, 1.0f);
-      points.emplace_back(w.x, w.y, w.z);
-    }
-    for (size_t t = 0; t < mesh.triangle_count(); ++t)
-      triangles.emplace_back(base + mesh.indices[3 * t], base + mesh.indices[3 * t + 1], base + mesh.indices[3 * t + 2]);
-  }
+  for (const glm::vec3& p : placed.positions) points.emplace_back(p.x, p.y, p.z);
+  for (size_t t = 0; t < placed.triangle_count(); ++t)
+    triangles.emplace_back(placed.indices[3 * t], placed.indices[3 * t + 1], placed.indices[3 * t + 2]);
   auto transform = openvdb_transform(grid);
   return time_ms([&] {
     auto level_set = openvdb::tools::meshToLevelSet<openvdb::FloatGrid>(*transform, points, triangles, 3.0f);

@@ -27,18 +27,6 @@
 
 namespace {
 
-// bvh_cost of a tree over the scene's triangles as placed (one mesh in world space).
-float placed_bvh_cost(const rtsdf::Scene& scene) {
-  rtsdf::Mesh placed;
-  for (const rtsdf::Instance& instance : scene.instances) {
-    const rtsdf::Mesh& mesh = scene.meshes[instance.mesh];
-    const uint32_t base = uint32_t(placed.positions.size());
-    for (const glm::vec3& p : mesh.positions) placed.positions.push_back(glm::vec3(instance.object_to_world * glm::vec4(p, 1.0f)));
-    for (uint32_t index : mesh.indices) placed.indices.push_back(base + index);
-  }
-  return rtsdf::bvh_cost(rtsdf::build_mesh_bvh(placed));
-}
-
 struct Case {
   std::string mesh;
   int fine_resolution;
@@ -81,7 +69,7 @@ int main(int argc, char** argv) {
       if (!gpu_scene) {
         scene = rtsdf::import_scene(c.mesh);
         gpu_scene = std::make_unique<rtsdf::GpuScene>(context, scene);
-        bvh_costs[c.mesh] = placed_bvh_cost(scene);
+        bvh_costs[c.mesh] = rtsdf::bvh_cost(rtsdf::build_mesh_bvh(rtsdf::placed_mesh(scene)));
       }
       rtsdf::CoarseSdf coarse(context);
       coarse.build(*gpu_scene, rtsdf::fit_grid(gpu_scene->bounds(), 64), 0.5f);

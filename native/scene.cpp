@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <limits>
+#include <numeric>
 
 #include "error.h"
 #include "mesh_extent.h"
@@ -98,6 +99,22 @@ Scene single_mesh_scene(Mesh mesh) {
   scene.meshes.push_back(std::move(mesh));
   scene.instances.push_back(Instance{0, glm::mat4(1.0f)});
   return scene;
+}
+
+Mesh placed_mesh(const Scene& scene) {
+  Mesh placed;
+  placed.positions.reserve(std::accumulate(scene.instances.begin(), scene.instances.end(), size_t(0),
+                                           [&](size_t n, const Instance& i) { return n + scene.meshes[i.mesh].positions.size(); }));
+  placed.indices.reserve(3 * scene.triangle_count());
+  for (const Instance& instance : scene.instances) {
+    const Mesh& mesh = scene.meshes[instance.mesh];
+    const uint32_t base = uint32_t(placed.positions.size());
+    for (const glm::vec3& p : mesh.positions) placed.positions.push_back(glm::vec3(instance.object_to_world * glm::vec4(p, 1.0f)));
+    const bool mirrored = glm::determinant(glm::mat3(instance.object_to_world)) < 0.0f;
+    for (size_t i = 0; i + 2 < mesh.indices.size(); i += 3)
+      for (int k : {0, mirrored ? 2 : 1, mirrored ? 1 : 2}) placed.indices.push_back(base + mesh.indices[i + k]);
+  }
+  return placed;
 }
 
 }  // namespace rtsdf

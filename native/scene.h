@@ -98,4 +98,9 @@ struct Scene {
 // A scene holding one mesh once, untransformed.
 Scene single_mesh_scene(Mesh mesh);
 
+// Every instance's triangles placed in world space, as one mesh (positions
+// and indices only). A mirrored instance's corners are reordered, so that its
+// faces still face the way they do in the scene.
+Mesh placed_mesh(const Scene& scene);
+
 }  // namespace rtsdf

@@ -1,6 +1,7 @@
 // MeshExtent against every vertex transformed: the same bounds and extents,
 // for shapes whose extremes fall in different cells, under rotation,
-// non-uniform and negative scale.
+// non-uniform and negative scale. And placed_mesh, the scene's triangles in
+// world space as one mesh.
 #include <gtest/gtest.h>
 
 #include <glm/gtc/matrix_transform.hpp>
@@ -59,6 +60,31 @@ TEST(MeshExtent, EmptyMeshHasNoBounds) {
   EXPECT_EQ(huge.support({1, 0, 0}), 3e38f);
   EXPECT_TRUE(extent.empty());
   EXPECT_TRUE(extent.placed_bounds(glm::mat4(1.0f)).is_empty());
+}
+
+// Two instances of a box, one of them mirrored: every corner where its
+// instance puts it, and every face turned out of the placed box as it is
+// out of the box it was made from.
+TEST(PlacedMesh, PlacesEveryInstanceAndKeepsItsFacesFacingOut) {
+  Scene scene;
+  scene.meshes.push_back(reference::box({-1, -1, -1}, {1, 1, 1}));
+  const glm::mat4 moved = glm::translate(glm::mat4(1.0f), glm::vec3(5, 0, 0));
+  const glm::mat4 mirrored = glm::scale(glm::translate(glm::mat4(1.0f), glm::vec3(-5, 0, 0)), glm::vec3(-1, 2, 1));
+  scene.instances = {Instance{0, moved}, Instance{0, mirrored}};
+  const Mesh placed = placed_mesh(scene);
+  const Mesh& box = scene.meshes[0];
+  ASSERT_EQ(placed.positions.size(), 2 * box.positions.size());
+  ASSERT_EQ(placed.triangle_count(), 2 * box.triangle_count());
+  for (size_t v = 0; v < box.positions.size(); ++v) {
+    EXPECT_EQ(placed.positions[v], glm::vec3(moved * glm::vec4(box.positions[v], 1.0f)));
+    EXPECT_EQ(placed.positions[box.positions.size() + v], glm::vec3(mirrored * glm::vec4(box.positions[v], 1.0f)));
+  }
+  for (size_t t = 0; t < placed.triangle_count(); ++t) {
+    const glm::vec3 a = placed.positions[placed.indices[3 * t]], b = placed.positions[placed.indices[3 * t + 1]],
+                    c = placed.positions[placed.indices[3 * t + 2]];
+    const glm::vec3 centre = t < box.triangle_count() ? glm::vec3(5, 0, 0) : glm::vec3(-5, 0, 0);
+    EXPECT_GT(glm::dot(glm::cross(b - a, c - a), (a + b + c) / 3.0f - centre), 0.0f) << "triangle " << t;
+  }
 }
 
 }  // namespace

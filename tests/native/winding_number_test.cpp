@@ -128,16 +128,7 @@ TEST_F(FineSdfSignTest, SignHoldsOnCrackedOverlappingAndInsideOutParts) {
 TEST_F(FineSdfSignTest, SignHoldsOnAThirdPartyCadAssembly) {
   const std::string path = std::string(RTSDF_THIRD_PARTY_MODELS) + "/glTF2/2CylinderEngine-glTF-Binary/2CylinderEngine.glb";
   if (!std::filesystem::exists(path)) GTEST_SKIP() << path << " missing (Debian package assimp-testmodels)";
-  const Scene parts = import_scene(path);
-  Mesh mesh;  // every placed part in world space, one mesh
-  for (const Instance& instance : parts.instances) {
-    const Mesh& part = parts.meshes[instance.mesh];
-    const uint32_t base = uint32_t(mesh.positions.size());
-    for (const glm::vec3& p : part.positions) mesh.positions.push_back(glm::vec3(instance.object_to_world * glm::vec4(p, 1.0f)));
-    const bool mirrored = glm::determinant(glm::mat3(instance.object_to_world)) < 0.0f;
-    for (size_t i = 0; i < part.indices.size(); i += 3)
-      for (int k : {0, mirrored ? 2 : 1, mirrored ? 1 : 2}) mesh.indices.push_back(base + part.indices[i + k]);
-  }
+  const Mesh mesh = placed_mesh(import_scene(path));  // every placed part in world space, one mesh
   ASSERT_GT(mesh.triangle_count(), 100000u);
   const Pieces pieces = mesh_pieces(mesh);
   GpuScene scene(context(), single_mesh_scene(mesh));
