@@ -6,6 +6,8 @@
 
 #include "shaders/shared.h"
 #include "spirv/spirv_gbuffer_frag.h"
+#include "spirv/spirv_gbuffer_one_color_frag.h"
+#include "spirv/spirv_gbuffer_one_color_vert.h"
 #include "spirv/spirv_gbuffer_vert.h"
 #include "error.h"
 #include "march_fields.h"
@@ -45,10 +47,10 @@ std::vector<glm::mat4> world_motions(const std::vector<glm::mat4>& before, const
 
 GBufferPass::GBufferPass(const vk::Context& context)
     : context_(context),
-      one_color_(context, RTSDF_SPIRV(spirv_gbuffer_vert), RTSDF_SPIRV(spirv_gbuffer_frag), kBindings,
-                 sizeof(gpu::GBufferPush), kTargets, {0u}),
+      one_color_(context, RTSDF_SPIRV(spirv_gbuffer_one_color_vert), RTSDF_SPIRV(spirv_gbuffer_one_color_frag), kBindings,
+                 sizeof(gpu::GBufferPush), kTargets),
       material_slots_(context, RTSDF_SPIRV(spirv_gbuffer_vert), RTSDF_SPIRV(spirv_gbuffer_frag), kBindings,
-                      sizeof(gpu::GBufferPush), kTargets, {1u}) {}
+                      sizeof(gpu::GBufferPush), kTargets) {}
 
 void GBufferPass::resize(int width, int height) {
   if (width == width_ && height == height_) return;
