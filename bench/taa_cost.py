@@ -1,7 +1,8 @@
 #!/usr/bin/python3
 """What temporal reuse (the viewport's TAA) adds to a playback step.
 
-usage: bench/taa_cost.py WORK_DIR SCENE[,SCENE...] [--runs N]
+usage: bench/taa_cost.py WORK_DIR SCENE[,SCENE...] [--runs N] [--size WxH] [--stages]
+                        [--exact-rays N] [--quick-first-frame]
 
 WORK_DIR is a bench/run output's work directory (DIR/work: each scene's
 scene.pkl from Blender). For each scene a native viewport with rtsdf's
@@ -11,6 +12,15 @@ and off, alternating, N runs each. Prints the median step (begin + frame,
 native wall time) of each and their ratio, and the ratio of the fastest
 runs' medians: on a shared machine a slow spell lengthens some runs by a
 third, and the fastest run of each is the one least touched by it.
+
+--size draws at WxH instead of the scene's size (a Blender viewport of a
+1045x666 region at Resolution Scale 0.5 draws 522x333). --stages prints
+too where the steps with temporal reuse went: the medians of the
+viewport's stage timings (the GPU's G-buffer, quad pass, temporal passes
+and all shading; the SDF and fine updates; the frame's wall time).
+--exact-rays and --quick-first-frame set those two settings as the
+add-on's viewport has them (4 and on; bench/run's Preview row, which the
+script draws otherwise, leaves the native defaults).
 """
 import argparse
 import importlib.machinery
@@ -27,21 +37,26 @@ bench = importlib.util.module_from_spec(_spec)
 _loader.exec_module(bench)
 
 
-def step_ms(session, data, settings, temporal_reuse):
-    """Median ms of a playback step in a viewport that had converged on the still scene."""
+def playback_steps(session, data, settings, temporal_reuse, size=None):
+    """Median ms of a playback step in a viewport that had converged on the
+    still scene, and the medians of its stage timings (Viewport.draw's ms)."""
     viewport = session.viewport()
     viewport.sync(data["before"])
     view = bench.view_of(data["before"])
+    if size:
+        view.update(width=size[0], height=size[1])
     settings = dict(settings, temporal_reuse=temporal_reuse)
     for _ in range(settings["samples"] + 64):
         if viewport.draw(view, settings)["converged"]:
             break
-    times = []
+    times, stages = [], {}
     for step in range(1, bench.ANIMATION_STEPS + 1):
         viewport.set_transforms(bench.mover_transforms(data, step))
-        draw_ms = viewport.draw(view, settings)["draw_ms"]
-        times.append(draw_ms["begin"] + draw_ms["frame"])
-    return float(np.median(times))
+        drawn = viewport.draw(view, settings)
+        times.append(drawn["draw_ms"]["begin"] + drawn["draw_ms"]["frame"])
+        for stage, ms in drawn["ms"].items():
+            stages.setdefault(stage, []).append(ms)
+    return float(np.median(times)), {stage: float(np.median(ms)) for stage, ms in stages.items()}
 
 
 def main():
@@ -49,10 +64,19 @@ def main():
     parser.add_argument("work")
     parser.add_argument("scenes")
     parser.add_argument("--runs", type=int, default=2)
+    parser.add_argument("--size", help="WxH to draw at (default: the scene's)")
+    parser.add_argument("--stages", action="store_true", help="print the stage timings of the steps with reuse too")
+    parser.add_argument("--exact-rays", type=int, help="exact rays per light and sample (the viewport's: 4)")
+    parser.add_argument("--quick-first-frame", action="store_true", help="as the viewport draws a frame after a change")
     args = parser.parse_args()
+    size = tuple(int(n) for n in args.size.lower().split("x")) if args.size else None
     session = bench.sessions()[0]
     _, settings = bench.sweep("rtsdf", True, True)[0]
     settings = dict(settings, samples=16)  # (the viewport's samples)
+    if args.exact_rays is not None:
+        settings["exact_rays"] = args.exact_rays
+    if args.quick_first_frame:
+        settings["quick_first_frame"] = True
     for scene in args.scenes.split(","):
         with open(os.path.join(args.work, scene, "scene.pkl"), "rb") as f:
             data = pickle.load(f)
@@ -62,13 +86,23 @@ def main():
         session.forget_fields()
         session.render(data["before"], settings)  # (the fields refined, as in a viewport open a while)
         runs = {False: [], True: []}
+        stages = {}
         for _ in range(args.runs):
             for reuse in (False, True):
-                runs[reuse].append(step_ms(session, data, settings, reuse))
+                ms, run_stages = playback_steps(session, data, settings, reuse, size)
+                runs[reuse].append(ms)
+                if reuse:
+                    for stage, stage_ms in run_stages.items():
+                        stages.setdefault(stage, []).append(stage_ms)
         off, on = float(np.median(runs[False])), float(np.median(runs[True]))
         print(f"{scene}: step {off:.1f} ms without temporal reuse, {on:.1f} ms with it: {on / off:.3f}x; "
               f"fastest runs {min(runs[False]):.1f} and {min(runs[True]):.1f} ms: {min(runs[True]) / min(runs[False]):.3f}x "
               f"({session.device})", flush=True)
+        if args.stages:
+            shown = ("gbuffer_gpu", "quad_gpu", "temporal_gpu", "shade_gpu", "sdf", "fine", "total")
+            print(f"{scene}: stages with reuse, median over runs: " +
+                  ", ".join(f"{stage} {np.median(stages[stage]):.1f}" for stage in shown if stage in stages) + " ms",
+                  flush=True)
 
 
 if __name__ == "__main__":
