@@ -62,14 +62,19 @@ int main(int argc, char** argv) {
                 context.info().name.c_str(), frames);
     std::printf("%9s %5s %5s %3s %12s %9s %9s %9s %10s %9s %9s %13s\n", "triangles", "fine", "rays", "K", "fine dims",
                 "bvh ms", "bvh cost", "texels", "Mrays/s", "fine ms", "openvdb", "openvdb/fine");
-    std::map<std::string, std::pair<rtsdf::Scene, std::unique_ptr<rtsdf::GpuScene>>> scenes;
-    std::map<std::string, float> bvh_costs;
+    // Each mesh file's scene, loaded once for all its cases.
+    struct Loaded {
+      rtsdf::Scene scene;
+      std::unique_ptr<rtsdf::GpuScene> gpu_scene;
+      float bvh_cost = 0.0f;
+    };
+    std::map<std::string, Loaded> scenes;
     for (const Case& c : cases) {
-      auto& [scene, gpu_scene] = scenes[c.mesh];
+      auto& [scene, gpu_scene, bvh_cost] = scenes[c.mesh];
       if (!gpu_scene) {
         scene = rtsdf::import_scene(c.mesh);
         gpu_scene = std::make_unique<rtsdf::GpuScene>(context, scene);
-        bvh_costs[c.mesh] = rtsdf::bvh_cost(rtsdf::build_mesh_bvh(rtsdf::placed_mesh(scene)));
+        bvh_cost = rtsdf::bvh_cost(rtsdf::build_mesh_bvh(rtsdf::placed_mesh(scene)));
       }
       rtsdf::CoarseSdf coarse(context);
       coarse.build(*gpu_scene, rtsdf::fit_grid(gpu_scene->bounds(), 64), 0.5f);
@@ -90,7 +95,7 @@ int main(int argc, char** argv) {
       char dims[32];
       std::snprintf(dims, sizeof dims, "%dx%dx%d", grid.dims.x, grid.dims.y, grid.dims.z);
       std::printf("%9zu %5d %5d %3d %12s %9.1f %9.1f %9u %10.2f %9.1f %9.1f %13.2f\n", scene.triangle_count(),
-                  c.fine_resolution, c.rays, c.interleave, dims, gpu_scene->bvh_build_ms(), bvh_costs[c.mesh], texels,
+                  c.fine_resolution, c.rays, c.interleave, dims, gpu_scene->bvh_build_ms(), bvh_cost, texels,
                   double(texels) * c.rays / (fine_ms * 1e3), fine_ms, vdb_ms, vdb_ms / fine_ms);
     }
     std::printf("K = interleave: each band texel traced every K-th frame.\n"

@@ -258,7 +258,7 @@ void GpuScene::upload_materials() {
 void GpuScene::build_bottom_level(uint32_t mesh, bool same_triangles) {
   const Mesh& geometry = scene_.meshes[mesh];
   BottomLevel& level = bottom_levels_[mesh];
-  bool refitted = same_triangles && level.bvh.order.size() == geometry.triangle_count() && level.built_cost > 0.0f;
+  bool refitted = same_triangles && level.built_cost > 0.0f;  // (0: never built)
   if (refitted) {
     refit_mesh_bvh(level.bvh, geometry);
     refitted = bvh_cost(level.bvh) <= kRefitCostLimit * level.built_cost;
