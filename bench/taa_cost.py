@@ -56,6 +56,7 @@ def playback_steps(session, data, settings, temporal_reuse, size=None):
         times.append(drawn["draw_ms"]["begin"] + drawn["draw_ms"]["frame"])
         for stage, ms in drawn["ms"].items():
             stages.setdefault(stage, []).append(ms)
+        stages.setdefault("drawn_share", []).append(drawn["stats"]["drawn_share"])
     return float(np.median(times)), {stage: float(np.median(ms)) for stage, ms in stages.items()}
 
 
@@ -68,6 +69,8 @@ def main():
     parser.add_argument("--stages", action="store_true", help="print the stage timings of the steps with reuse too")
     parser.add_argument("--exact-rays", type=int, help="exact rays per light and sample (the viewport's: 4)")
     parser.add_argument("--quick-first-frame", action="store_true", help="as the viewport draws a frame after a change")
+    parser.add_argument("--whole-image", action="store_true",
+                        help="draw each playback step over the whole image (changed_region_only off), to compare")
     args = parser.parse_args()
     size = tuple(int(n) for n in args.size.lower().split("x")) if args.size else None
     session = bench.sessions()[0]
@@ -77,6 +80,8 @@ def main():
         settings["exact_rays"] = args.exact_rays
     if args.quick_first_frame:
         settings["quick_first_frame"] = True
+    if args.whole_image:
+        settings["changed_region_only"] = False
     for scene in args.scenes.split(","):
         with open(os.path.join(args.work, scene, "scene.pkl"), "rb") as f:
             data = pickle.load(f)
@@ -101,8 +106,8 @@ def main():
         if args.stages:
             shown = ("gbuffer_gpu", "quad_gpu", "temporal_gpu", "shade_gpu", "sdf", "fine", "total")
             print(f"{scene}: stages with reuse, median over runs: " +
-                  ", ".join(f"{stage} {np.median(stages[stage]):.1f}" for stage in shown if stage in stages) + " ms",
-                  flush=True)
+                  ", ".join(f"{stage} {np.median(stages[stage]):.1f}" for stage in shown if stage in stages) +
+                  f" ms; drawn share of the image {np.median(stages['drawn_share']):.2f}", flush=True)
 
 
 if __name__ == "__main__":

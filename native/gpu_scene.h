@@ -100,6 +100,8 @@ class GpuScene {
     Bounds moved;
   };
   Changes take_changes();
+  // The changes take_changes() would take now.
+  const Changes& pending_changes() const { return changes_; }
 
   // The BVHs over the shadow casters, built (or brought up to date) on first
   // use. Throws rtsdf::Error when there is no shadow caster.

@@ -39,6 +39,10 @@ constexpr float kMovedShadowSamples = 1.0f;  // (a moved shadow: mostly from thi
 constexpr float kMovedShadowClip = 0.75f;
 constexpr float kReprojectedDepthTolerance = 0.01f;
 
+// The sub-pixel jitter's reach in whole pixels: the pixel filter's jitter
+// reaches filter_width pixels either way.
+float jitter_reach(float filter_width) { return std::ceil(std::max(filter_width, 0.5f)); }
+
 float halton(uint32_t index, uint32_t base) {
   float f = 1.0f, r = 0.0f;
   for (uint32_t i = index + 1; i > 0; i /= base) f /= float(base), r += f * float(i % base);
@@ -402,7 +406,8 @@ void Renderer::begin(GpuScene& scene, const Camera& camera, const std::vector<Li
                  drawn_transforms_.size() == scene.instances().size();
   const bool size_changed = width != width_ || height != height_ || !accum_.color.handle();
   if (size_changed || (settings.temporal_reuse && !history_.color.handle())) {
-    const VkImageUsageFlags usage = VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
+    const VkImageUsageFlags usage = VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT |
+                                      VK_IMAGE_USAGE_TRANSFER_DST_BIT;  // (a playback step copies history)
     std::vector<Accumulation*> accumulations = {&accum_};
     if (settings.temporal_reuse) accumulations.insert(accumulations.end(), {&history_, &resolved_});
     for (Accumulation* accumulation : accumulations)
@@ -452,6 +457,24 @@ void Renderer::begin(GpuScene& scene, const Camera& camera, const std::vector<Li
           frame_data_.changed_hi);
     // What moved on screen, casting shadows or not (a silhouette's history may hold it).
     if (last_changes_->any_moved) put(last_changes_->moved, frame_data_.moved_lo, frame_data_.moved_hi);
+  }
+  change_on_screen_ = PixelRect{};
+  if (has_history_) {
+    const glm::ivec2 size(width, height);
+    const GpuScene::Changes& pending = scene.pending_changes();
+    const bool untold = !scene_changed && (pending.everything || pending.any || pending.any_moved ||
+                                           drawn_transforms_ != transforms);  // (no box says where)
+    // (the casters swapped: the shadows of those that left are in no box)
+    const bool casters_swapped = scene_changed && last_changes_ && last_changes_->everything;
+    if (untold || casters_swapped) {
+      change_on_screen_ = PixelRect::whole(size);
+    } else if (frame_data_.changed_lo.w != 0.0f || frame_data_.moved_lo.w != 0.0f) {
+      std::vector<uint32_t> seen;  // (no surface lies outside these)
+      for (uint32_t i = 0; i < scene.instances().size(); ++i)
+        if (scene.instances()[i].visible_to_camera) seen.push_back(i);
+      const Bounds visible = scene.scene().world_bounds(seen, scene.mesh_extents());
+      change_on_screen_ = change_on_screen(frame_data_, gpu_lights, visible, size, jitter_reach(settings.filter_width));
+    }
   }
   drawn_scene_id_ = scene.id();
   drawn_transforms_ = std::move(transforms);
@@ -590,12 +613,20 @@ void Renderer::add_frame() {
     vk::memory_barrier(cmd, VK_ACCESS_SHADER_WRITE_BIT, VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT,
                        VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT);
   };
+  // A step that keeps history draws the region its change can reach and
+  // the pixels not yet settled before it; nothing outside reads this
+  // frame's G-buffer, and history stands there as it was.
+  const glm::ivec2 size(width_, height_);
+  const PixelRect drawn = keeps && settings_.changed_region_only
+                              ? temporal_.keep_region(unsettled_.united(change_on_screen_))
+                              : PixelRect::whole(size);
+  stats_.drawn_share = double(drawn.size().x) * drawn.size().y / (double(width_) * height_);
   context_.submit_and_wait([&](VkCommandBuffer cmd) {
     shading_timer_.begin(cmd);
-    gbuffer_.record(cmd, *scene_, frame_buffer_, field_voxels_, instance_motions_);
+    gbuffer_.record(cmd, *scene_, frame_buffer_, field_voxels_, instance_motions_, drawn);
     shading_timer_.mark(cmd, "gbuffer");
     if (keeps) {
-      temporal_.record_keep(cmd, gbuffer_, temporal_images, frame_buffer_, light_buffer_, temporal);
+      temporal_.record_keep(cmd, gbuffer_, temporal_images, frame_buffer_, light_buffer_, temporal, drawn);
       compute_barrier(cmd);
       shading_timer_.mark(cmd, "keep");
     }
@@ -614,6 +645,15 @@ void Renderer::add_frame() {
     }
   });
   if (resolves) std::swap(accum_, resolved_);
+  // What may not have settled now: where the keep pass did not keep; every
+  // pixel after a frame that reprojected all of history or had none; none
+  // once the frames since have drawn each pixel's full samples (a pixel
+  // shaded anew from no history has them after history_samples frames).
+  if (keeps)
+    unsettled_ = temporal_.unsettled_pixels().grown(1, size);  // (history is read a texel right and below too)
+  else if (frame_ == 0)
+    unsettled_ = PixelRect::whole(size);
+  if (frame_ + 1 >= temporal_push().history_samples) unsettled_ = PixelRect{};
   drawn_frame_ = frame_data_;
   timings_.shade_ms += ms_since(shading);
   for (const vk::GpuTimer::Span& span : shading_timer_.read()) {
@@ -635,8 +675,7 @@ gpu::TemporalPush Renderer::temporal_push() const {
   temporal.moved_shadow_clip = kMovedShadowClip;
   temporal.moved_shadow_samples = kMovedShadowSamples;
   temporal.depth_tolerance = kReprojectedDepthTolerance;
-  // (the pixel filter's jitter reaches filter_width pixels either way)
-  temporal.jitter_reach = std::ceil(std::max(settings_.filter_width, 0.5f));
+  temporal.jitter_reach = jitter_reach(settings_.filter_width);
   temporal.same_lighting = same_lighting_ ? 1u : 0u;
   return temporal;
 }

@@ -127,6 +127,12 @@ struct RenderSettings {
   // animation render that draws few samples a frame lets history stand for
   // the rest.
   int history_samples = 0;
+  // A playback step (temporal reuse under the same camera and lights) draws
+  // its G-buffer and keeps history over the region its change can reach on
+  // screen (screen_region.h) and the pixels left unsettled before it; the
+  // rest of the image is history as it was. Off: over the whole image (to
+  // compare: the colours come out the same).
+  bool changed_region_only = true;
 };
 
 // The settings a caller names by key (the Python module's dicts), one list
@@ -156,6 +162,7 @@ void visit_settings(Settings& settings, Visit&& visit) {
   visit("quick_first_frame", settings.quick_first_frame);
   visit("temporal_reuse", settings.temporal_reuse);
   visit("history_samples", settings.history_samples);
+  visit("changed_region_only", settings.changed_region_only);
 }
 
 // Whether two settings draw the same: every visited setting, the method,
@@ -178,6 +185,9 @@ struct RenderStats {
   std::vector<FieldMemory> per_field;  // rtsdf: each mesh's field
   float resolution_scale = 1;   // rtsdf: below 1, resolutions lowered to fit field_budget_mb
   int skipped_degenerate = 0;   // rtsdf: instances a scale flattens to nothing, left out of the fields
+  // The share of the image the last frame drew (its G-buffer and temporal
+  // keep pass): below 1 in a playback step that drew its changed region alone.
+  double drawn_share = 0.0;
 };
 
 struct RenderTimings {
@@ -346,6 +356,13 @@ class Renderer {
   gpu::FrameData drawn_frame_{};
   std::vector<glm::mat4> instance_motions_;  // per instance, for the G-buffer's motion (world_motions)
   std::optional<GpuScene::Changes> last_changes_;  // taken by the last rebuild_sdfs
+  // Playback steps draw these alone (RenderSettings::changed_region_only):
+  // where this accumulation's change can reach on screen (begin() finds it),
+  // and the pixels of the accumulation that may not have settled (full
+  // samples, as still as history was): those the last keep pass did not
+  // keep, until the frames after it have drawn every pixel's samples.
+  PixelRect change_on_screen_;
+  PixelRect unsettled_;
 };
 
 }  // namespace rtsdf

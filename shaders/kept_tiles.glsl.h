@@ -32,10 +32,11 @@ ivec2 listed_tile(TileList list) {
 }
 
 #ifdef RTSDF_LISTS_TILES
-// Lists `tile` of `list`, once.
-void list_tile(TileList list, ivec2 tile) {
+// Lists `tile` of `list`, once: true for the call that listed it.
+bool list_tile(TileList list, ivec2 tile) {
   uint count = uint(list.tiles.x * list.tiles.y), index = uint(tile.x + list.tiles.x * tile.y);
-  if (atomicExchange(tile_words[list.first + 4u + index], 1u) == 0u)
-    tile_words[list.first + 4u + count + atomicAdd(tile_words[list.first], 1u)] = index;
+  if (atomicExchange(tile_words[list.first + 4u + index], 1u) != 0u) return false;
+  tile_words[list.first + 4u + count + atomicAdd(tile_words[list.first], 1u)] = index;
+  return true;
 }
 #endif

@@ -189,8 +189,7 @@ struct TemporalPush {
   float depth_tolerance;       // relative depth a reprojected surface may differ by
   float jitter_reach;          // the sub-pixel jitter's reach (whole pixels)
   uint same_lighting;          // 1: the lights and the world are as history saw them (pixels may settle)
-  uint pad0;
-  uint pad1;
+  ivec2 keep_origin;           // the keep pass's first tile (it runs over a rectangle of tiles from there)
 };
 // The keep pass lists the tiles of kTemporalTile^2 pixels and the groups of
 // kQuadGroup^2 quads where pixels it did not keep lie (kept_tiles.glsl.h).
@@ -202,6 +201,10 @@ const float kNearbyHistorySamples = 3.0;
 // accum_passes.z of a pixel whose history the temporal keep pass kept as
 // this frame's sample (temporal_keep.comp): the shading passes skip it.
 const float kKeptSample = -1.0;
+// Where a still pixel is in contact with the casters that moved (and is
+// shaded anew): within this share of their box's diagonal of the box
+// (temporal_history.glsl.h, in_contact_with_change).
+const float kContactReach = 0.25;
 
 // The depth pass where a pixel sees no surface (the world behind everything).
 const float kNothingHitDepth = 1e10;

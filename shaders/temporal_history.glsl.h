@@ -44,8 +44,8 @@ bool within_box(vec3 p, vec4 lo, vec4 hi, float distance) {
 // Taking a new sample there each frame (up to a whole box size out) made
 // flicker: the new samples' noise showed more than the sky's change, and the
 // error against Cycles was the same within 3% on six bench scenes
-// (docs/benchmarks.md).
-const float kContactReach = 0.25;
+// (docs/benchmarks.md). kContactReach (shared.h) is that share; the
+// renderer bounds the keep pass's region by it too (native/screen_region.h).
 
 bool in_contact_with_change(vec3 p) {
   return within_box(p, frame.changed_lo, frame.changed_hi,
@@ -84,6 +84,23 @@ bool near_depth(ivec2 q, float depth) {
     for (int dx = -reach; dx <= reach; ++dx)
       if (same_depth(q + ivec2(dx, dy), depth)) return true;
   return false;
+}
+
+// Where the nearest surface history saw on the ray through `on_ray` lay:
+// on that ray at history's nearest depth `nearest`.
+vec3 history_front(float nearest, vec3 on_ray) {
+  vec3 camera = frame.camera_position.xyz, forward = frame.camera_forward.xyz;
+  vec3 ray = frame.camera_position.w > 0.5 ? forward : normalize(on_ray - camera);
+  return on_ray + ray * ((nearest - dot(on_ray - camera, forward)) / max(dot(ray, forward), 1e-3));
+}
+
+// Whether a surface history saw at p was what moved: in the box of what
+// moved, casting shadows or not, give or take the jitter's reach and two
+// pixels (history saw it within the jitter's reach of the pixel's ray,
+// read bilinearly; a whole box's size more took in the ground's far edge,
+// and the horizon never settled).
+bool in_moved_box(vec3 p) {
+  return within_box(p, frame.moved_lo, frame.moved_hi, (pc.jitter_reach + 2.0) * pixel_width_at(p));
 }
 
 struct History {
@@ -141,6 +158,13 @@ History find_history(ivec2 pixel, vec4 position) {
   // Where the surface point was: pixel centre + motion (in pixels), read
   // bilinearly (nothing where it was behind the last camera).
   vec2 at = vec2(pixel) + 0.5 + motion.xy * 0.5 * vec2(pc.image_size) - 0.5;
+  // Where the point was right here (no motion, the camera still) and what
+  // history saw in front was not what moved, its own texel's history stands
+  // even where no texel within the jitter's reach saw this depth: the
+  // jitter went on to an offset the still frames did not take, and this
+  // frame's sample sees a surface beside the ones they saw (a still
+  // silhouette). That is no disocclusion, and it counts as few samples.
+  bool in_place = all(lessThan(abs(at - vec2(pixel)), vec2(1e-3)));
   ivec2 base = ivec2(floor(at));
   vec2 f = at - vec2(base);
   float weights = 0.0;
@@ -150,7 +174,8 @@ History find_history(ivec2 pixel, vec4 position) {
     vec4 before = imageLoad(history_passes, corner);
     h.full_samples = min(h.full_samples, before.z);
     if (!saw_depth(before, motion.z)) {
-      if (!near_depth(corner, motion.z)) continue;
+      bool jittered_beside = in_place && k == 0 && !in_moved_box(history_front(before.x, h.on_ray));
+      if (!jittered_beside && !near_depth(corner, motion.z)) continue;
       before.z = min(before.z, kNearbyHistorySamples);
     }
     vec2 bilinear = mix(1.0 - f, f, vec2(k & 1, k >> 1));
@@ -174,17 +199,8 @@ History find_history(ivec2 pixel, vec4 position) {
   // (The same for the background: where an object moved off it, history
   // near its old outline still holds it.)
   if (h.nearest < kNothingHitDepth) {
-    vec3 camera = frame.camera_position.xyz, forward = frame.camera_forward.xyz;
-    vec3 ray = frame.camera_position.w > 0.5 ? forward : normalize(h.on_ray - camera);
-    float depth = background ? kNothingHitDepth : dot(h.on_ray - camera, forward);
-    vec3 history_front = h.on_ray + ray * ((h.nearest - dot(h.on_ray - camera, forward)) / max(dot(ray, forward), 1e-3));
-    // (that front surface was seen within the jitter's reach of this pixel's
-    // ray, read bilinearly: a moved object's lies in the box of what moved,
-    // casting shadows or not, give or take that many pixels; a whole box's
-    // size more took in the ground's far edge, and the horizon never settled)
-    h.front_moved = h.nearest < depth * (1.0 - pc.depth_tolerance) &&
-                    within_box(history_front, frame.moved_lo, frame.moved_hi,
-                               (pc.jitter_reach + 2.0) * pixel_width_at(history_front));
+    float depth = background ? kNothingHitDepth : dot(h.on_ray - frame.camera_position.xyz, frame.camera_forward.xyz);
+    h.front_moved = h.nearest < depth * (1.0 - pc.depth_tolerance) && in_moved_box(history_front(h.nearest, h.on_ray));
   }
   for (int l = 0; l < pc.light_count && !background; ++l)
     if (light_path_crosses_change(position.xyz, l)) h.shadow_may_move = true;
@@ -195,7 +211,7 @@ History find_history(ivec2 pixel, vec4 position) {
   // to offsets the still frames did not take); away from what moved, that
   // is the jitter, not motion, so its full history counts here.
   h.still = pc.same_lighting == 1u && min(h.full_samples, float(pc.history_samples)) >= float(pc.history_samples) &&
-            !h.front_moved && all(lessThan(abs(at - vec2(pixel)), vec2(1e-3)));
+            !h.front_moved && in_place;
   h.away = background || !in_contact_with_change(position.xyz);
   return h;
 }
@@ -266,16 +282,10 @@ float seen_depth(vec4 position) {
   return position.w > 0.0 ? dot(position.xyz - frame.camera_position.xyz, frame.camera_forward.xyz) : kNothingHitDepth;
 }
 
-// A settled pixel's resolved accumulation: history as it was (its second
-// moments `moments`, history's at this pixel: a settled pixel stays where
-// it was), with this frame's coverage and depths (as the shading writes
-// them in a first frame).
-Resolved settled(vec4 position, History h, vec4 moments) {
-  bool background = position.w <= 0.0;
-  float seen = seen_depth(position);
-  float coverage = !background && position.w < 0.5 * (kShadedSurface + kHoldoutSurface) ? 1.0 : 0.0;
-  float moved = background ? 0.0 : seen - h.previous_depth;  // (history's depths move as the point did)
-  return Resolved(vec4(h.color.rgb, coverage),
-                  vec4(min(seen, h.nearest + moved), h.shadow, float(pc.history_samples), max(seen, h.farthest + moved)),
-                  moments);
+// A settled pixel's resolved accumulation: history at this pixel as it was
+// (a settled pixel is where it was, with its full samples), the same that
+// a copy of history gives the pixels outside a playback step's region
+// (native/screen_region.h).
+Resolved settled(ivec2 pixel) {
+  return Resolved(imageLoad(history_color, pixel), imageLoad(history_passes, pixel), imageLoad(history_moments, pixel));
 }

@@ -131,7 +131,7 @@ Resolved resolve(ivec2 pixel, vec4 position, vec4 current, vec4 passes, History 
   // new sample there made them shimmer.
   bool shadow_moved = h.shadow_may_move && abs(shadow - h.shadow) >= kSameShadow;
   bool still = h.still && !shadow_moved;
-  if (still && h.away) return settled(position, h, history_second);
+  if (still && h.away) return settled(pixel);
 
   // The neighbourhood's mean and spread in YCoCg (this frame's samples, same coverage).
   // For a still pixel the spread stands for the samples' noise, which decides
@@ -176,7 +176,7 @@ Resolved resolve(ivec2 pixel, vec4 position, vec4 current, vec4 passes, History 
   // scenes; the shown frame's error the same or lower on 10 of 12). Where
   // the contact shadow did change, the clip moves history and the sample
   // is blended in, as before.
-  if (still && scale <= 1.0) return settled(position, h, history_second);
+  if (still && scale <= 1.0) return settled(pixel);
   // (the shadow pass follows the colour: clipped by the same share)
   float kept = scale > 1.0 ? 1.0 / scale : 1.0;
   float shadow_history = mix(passes.y, h.shadow, kept);

@@ -224,6 +224,9 @@ class RTSDFRenderEngine(bpy.types.RenderEngine):
         state = "converged" if out["converged"] else f"frame {out['frames']}/{samples}"
         # With temporal reuse, the samples the pixels stand for on average, history included.
         state += f" ({out['effective_samples']:.1f} spp)"
+        # A playback step draws only where its change can reach on screen.
+        if out["frames"] == 1 and out["stats"].get("drawn_share", 1.0) < 0.995:
+            state += f", drew {out['stats']['drawn_share']:.0%} of the image"
         self.update_stats("", f"RTSDF {state} | SDF {frame_ms['sdf']:.0f} ms | fine {frame_ms['fine']:.0f} ms | "
                               f"shading {frame_ms['shade']:.0f} ms | {field_summary(out['stats'], per_frame=True)}")
 

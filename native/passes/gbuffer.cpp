@@ -69,22 +69,24 @@ void GBufferPass::resize(int width, int height) {
 }
 
 void GBufferPass::record(VkCommandBuffer cmd, const GpuScene& scene, const vk::Buffer& frame,
-                         const std::vector<float>& field_voxels, const std::vector<glm::mat4>& motions) const {
+                         const std::vector<float>& field_voxels, const std::vector<glm::mat4>& motions,
+                         const PixelRect& region) const {
   if (field_voxels.size() != scene.instances().size()) throw Error("GBufferPass: one field voxel per instance");
   if (motions.size() != scene.instances().size()) throw Error("GBufferPass: one motion per instance");
+  if (region.is_empty()) return;
+  const VkRect2D drawn{{region.lo.x, region.lo.y}, {uint32_t(region.size().x), uint32_t(region.size().y)}};
   VkClearValue clears[5]{};
   clears[4].depthStencil = {1.0f, 0};
   VkRenderPassBeginInfo begin{VK_STRUCTURE_TYPE_RENDER_PASS_BEGIN_INFO};
   begin.renderPass = one_color_.render_pass();
   begin.framebuffer = framebuffer_->handle();
-  begin.renderArea = {{0, 0}, {uint32_t(width_), uint32_t(height_)}};
+  begin.renderArea = drawn;
   begin.clearValueCount = 5;
   begin.pClearValues = clears;
   vkCmdBeginRenderPass(cmd, &begin, VK_SUBPASS_CONTENTS_INLINE);
   VkViewport viewport{0.0f, 0.0f, float(width_), float(height_), 0.0f, 1.0f};
-  VkRect2D scissor{{0, 0}, {uint32_t(width_), uint32_t(height_)}};
   vkCmdSetViewport(cmd, 0, 1, &viewport);
-  vkCmdSetScissor(cmd, 0, 1, &scissor);
+  vkCmdSetScissor(cmd, 0, 1, &drawn);
   vkCmdBindIndexBuffer(cmd, scene.indices().handle(), 0, VK_INDEX_TYPE_UINT32);
   const std::vector<vk::Resource> resources{
       vk::Resource::storage_buffer(scene.positions()),        vk::Resource::uniform_buffer(frame),

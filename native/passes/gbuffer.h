@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "gpu_scene.h"
+#include "screen_region.h"
 #include "vk/pipeline.h"
 #include "vk/resources.h"
 
@@ -27,9 +28,12 @@ class GBufferPass {
   // `frame` holds one gpu::FrameData; `field_voxels`, per instance, the
   // world voxel size of the field holding it (0: in none), which the
   // shading's receiver offsets are measured in. `motions`, per instance,
-  // where its points were in the last frame (world_motions).
+  // where its points were in the last frame (world_motions). Draws the
+  // pixels of `region` alone (a playback step reads no others:
+  // TemporalPass::keep_region); the rest keep what they held.
   void record(VkCommandBuffer cmd, const GpuScene& scene, const vk::Buffer& frame,
-              const std::vector<float>& field_voxels, const std::vector<glm::mat4>& motions) const;
+              const std::vector<float>& field_voxels, const std::vector<glm::mat4>& motions,
+              const PixelRect& region) const;
 
   const vk::Image& position() const { return position_; }
   const vk::Image& normal() const { return normal_; }

@@ -9,6 +9,7 @@
 // the new accumulation: during playback every frame stands on the frames
 // before it, not on one noisy sample.
 #include "passes/gbuffer.h"
+#include "screen_region.h"
 #include "shaders/shared.h"
 #include "vk/pipeline.h"
 #include "vk/resources.h"
@@ -44,13 +45,25 @@ class TemporalPass {
   explicit TemporalPass(const vk::Context& context);
   // (Re)allocates the tile list for a width x height image.
   void resize(glm::ivec2 size);
-  // Before the shading (shaders/temporal_keep.comp): where history stands
-  // whatever the new sample, it is resolved (images.resolved_*) and becomes
-  // the sample (images.sample_*), marked for the shading and the resolve to
-  // skip (gpu::kKeptSample). The tiles holding pixels it did not keep are
-  // listed.
+  // The pixels a step with a keep pass reads, where every pixel it would not
+  // keep lies in `unsettled`: the tiles holding them (shaded and resolved),
+  // the quad groups that share samples with those, and the neighbours the
+  // resolve reads; whole tiles. The G-buffer and the keep pass need draw no
+  // more.
+  PixelRect keep_region(const PixelRect& unsettled) const;
+  // Before the shading (shaders/temporal_keep.comp), over `region` (from
+  // keep_region): where history stands whatever the new sample, it is
+  // resolved (images.resolved_*) and becomes the sample (images.sample_*),
+  // marked for the shading and the resolve to skip (gpu::kKeptSample). The
+  // tiles holding pixels it did not keep are listed. Outside the region,
+  // history is copied as it was into the resolved images and the sample's
+  // colour (the sample's passes there are left: nothing reads them).
   void record_keep(VkCommandBuffer cmd, const GBufferPass& gbuffer, const TemporalImages& images,
-                   const vk::Buffer& frame, const vk::Buffer& lights, const gpu::TemporalPush& push) const;
+                   const vk::Buffer& frame, const vk::Buffer& lights, gpu::TemporalPush push,
+                   const PixelRect& region) const;
+  // The rectangle of the tiles holding the pixels the last keep pass did not
+  // keep, in pixels (empty if it kept them all); read once its commands have run.
+  PixelRect unsettled_pixels() const;
   // After it (shaders/temporal_resolve.comp). `after_keep`: over the tiles
   // the keep pass listed alone, with the History it handed on (the
   // pipeline with kListedTiles); otherwise over every pixel.
@@ -68,6 +81,7 @@ class TemporalPass {
   vk::Pipeline resolve_listed_;  // (over the keep pass's list, taking the History it handed on)
   glm::ivec2 size_{0};
   vk::Buffer tiles_;  // see gpu::kTemporalTile
+  vk::Buffer unsettled_;  // the keep pass's listed tiles' rectangle (host-visible: the next step's region)
 };
 
 }  // namespace rtsdf

@@ -254,6 +254,7 @@ py::dict stats_of(const rtsdf::RenderStats& s) {
   stats["per_field"] = per_field;
   stats["resolution_scale"] = s.resolution_scale;
   stats["skipped_degenerate"] = s.skipped_degenerate;
+  stats["drawn_share"] = s.drawn_share;
   return stats;
 }
 

@@ -3,6 +3,7 @@
 // scene changed (or when asked to), and a kept scene updated in place only when its shapes
 // are the same.
 #include <cmath>
+#include <type_traits>
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "error.h"
@@ -23,7 +24,11 @@ TEST(SameSettings, EveryNamedSettingAndTheMethodCount) {
     RenderSettings changed = base;
     int index = 0;
     visit_settings(changed, [&](const char*, auto& value) {
-      if (index++ == keys) value = value + 1;
+      if (index++ != keys) return;
+      if constexpr (std::is_same_v<std::decay_t<decltype(value)>, bool>)
+        value = !value;  // (a setting on by default, too)
+      else
+        value = value + 1;
     });
     EXPECT_FALSE(same_settings(base, changed)) << key;
     keys++;
