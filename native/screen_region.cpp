@@ -13,6 +13,11 @@ PixelRect PixelRect::united(const PixelRect& other) const {
   return {glm::min(lo, other.lo), glm::max(hi, other.hi)};
 }
 
+PixelRect PixelRect::intersected(const PixelRect& other) const {
+  const PixelRect both{glm::max(lo, other.lo), glm::min(hi, other.hi)};
+  return both.is_empty() ? PixelRect{} : both;
+}
+
 PixelRect PixelRect::grown(int pixels, glm::ivec2 size) const {
   if (is_empty()) return *this;
   return {glm::max(lo - pixels, glm::ivec2(0)), glm::min(hi + pixels, size)};
@@ -122,15 +127,24 @@ PixelRect change_on_screen(const gpu::FrameData& frame, const std::vector<gpu::G
   PixelRect region;
   if (frame.moved_lo.w != 0.0f)
     region = region.united(project_hull(world_to_clip, size, corners(frame.moved_lo, frame.moved_hi)));
-  if (frame.changed_lo.w != 0.0f) {
+  // The tests of contact and of light paths are of visible surface points:
+  // their volumes end at `visible` (the rectangle of a volume's box cut by
+  // it, within that of the volume).
+  auto seen_part = [&](const std::vector<glm::vec3>& volume) {
+    Bounds box{volume.front(), volume.front()};
+    for (const glm::vec3& p : volume) box = {glm::min(box.lo, p), glm::max(box.hi, p)};
+    const Bounds cut{glm::max(box.lo, visible.lo), glm::min(box.hi, visible.hi)};
+    if (cut.is_empty()) return PixelRect{};
+    return project_hull(world_to_clip, size, volume).intersected(project_hull(world_to_clip, size, corners(cut.lo, cut.hi)));
+  };
+  if (frame.changed_lo.w != 0.0f && !visible.is_empty()) {
     const glm::vec3 lo(frame.changed_lo), hi(frame.changed_hi);
     const float contact = gpu::kContactReach * glm::distance(lo, hi);
-    region = region.united(project_hull(world_to_clip, size, corners(lo - contact, hi + contact)));
+    region = region.united(seen_part(corners(lo - contact, hi + contact)));
     for (const gpu::GpuLight& light : lights) {
-      if (visible.is_empty()) break;
       const std::vector<glm::vec3> volume = shadow_volume(light, lo, hi, visible);
       if (volume.empty()) return PixelRect::whole(size);
-      region = region.united(project_hull(world_to_clip, size, volume));
+      region = region.united(seen_part(volume));
     }
   }
   // The margin: a sample sees a point up to the jitter's reach from its

@@ -24,6 +24,8 @@ struct PixelRect {
   glm::ivec2 size() const { return is_empty() ? glm::ivec2(0) : hi - lo; }
   // The smallest rectangle holding both.
   PixelRect united(const PixelRect& other) const;
+  // The rectangle both hold.
+  PixelRect intersected(const PixelRect& other) const;
   // Grown by `pixels` on every side, within an image of `size`.
   PixelRect grown(int pixels, glm::ivec2 size) const;
   bool operator==(const PixelRect& other) const {
@@ -43,7 +45,7 @@ PixelRect project_hull(const glm::mat4& world_to_clip, glm::ivec2 size, const st
 // - what moved, where its surfaces are now and were (a pixel's motion, an
 //   uncovered background, a silhouette whose history held it);
 // - surfaces in contact with the changed casters (within kContactReach of
-//   their box's diagonal);
+//   their box's diagonal), within `visible`;
 // - each light's shadow volume of the changed casters: the points whose path
 //   to the light crosses their box (grown by the light's cone), cut where it
 //   leaves `visible` (the world bounds of everything the camera may see:

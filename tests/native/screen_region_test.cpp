@@ -54,6 +54,8 @@ TEST(PixelRect, UnitesGrowsWithinTheImageAndTellsEmpty) {
   EXPECT_EQ(a.grown(15, kSize), (PixelRect{{0, 0}, {35, 45}}));
   EXPECT_EQ(PixelRect({{190, 90}, {200, 100}}).grown(5, kSize), (PixelRect{{185, 85}, {200, 100}}));
   EXPECT_TRUE(none.grown(5, kSize).is_empty());
+  EXPECT_EQ(a.intersected(b), (PixelRect{{15, 10}, {20, 12}}));
+  EXPECT_TRUE(a.intersected(PixelRect{{25, 0}, {30, 5}}).is_empty());
 }
 
 TEST(ScreenRegion, AHullBehindTheCameraTakesTheWholeImageAndOneOffScreenNone) {
@@ -82,6 +84,25 @@ TEST(ScreenRegion, ASunsRegionHoldsTheMovedBoxAndItsShadowOnTheGround) {
   EXPECT_FALSE(holds(region, seen_at(-2.5f, 0.0f))) << "the ground the light comes from";
   EXPECT_FALSE(holds(region, seen_at(0.0f, 1.8f))) << "the ground beside";
   EXPECT_LT(share(region), 0.5);
+}
+
+// Surfaces are seen only within `visible`: where the ground ends at x = 1,
+// the sun's shadow volume (which would reach x = 3.5) and the contact
+// around the box end there too; the moved box itself does not (its old
+// outline may show anywhere it was).
+TEST(ScreenRegion, TheTestsOfSurfacePointsEndWhereNothingIsSeen) {
+  Light sun;
+  sun.direction = glm::normalize(glm::vec3(1, 0, -1));
+  sun.sun_angle = 0.02f;
+  const Bounds narrow{{-10.0f, -10.0f, 0.0f}, {1.0f, 10.0f, 3.0f}};
+  const PixelRect region = change_on_screen(box_moved(), {to_gpu(sun)}, narrow, kSize, 1.0f);
+  EXPECT_TRUE(holds(region, seen_at(0.9f, 0.0f)));
+  EXPECT_FALSE(holds(region, seen_at(1.5f, 0.0f)));
+  gpu::FrameData moved_beyond = box_moved();
+  moved_beyond.changed_lo.w = 0.0f;  // (a box that casts no shadow, moved from x = 1.5 to 2.5)
+  moved_beyond.moved_lo = glm::vec4(1.5f, -0.5f, 2.0f, 1.0f);
+  moved_beyond.moved_hi = glm::vec4(2.5f, 0.5f, 3.0f, 1.0f);
+  EXPECT_TRUE(holds(change_on_screen(moved_beyond, {to_gpu(sun)}, narrow, kSize, 1.0f), seen_at(2.0f, 0.0f)));
 }
 
 // A point light above: the shadow is the box's outline scaled from the light
