@@ -262,7 +262,9 @@ class Renderer {
   // The last frame's G-buffer motion per pixel (rows top to bottom): xy = where
   // its surface point was in the last accumulation's frame, from where it is
   // now (normalized device coordinates), z = its depth from that camera, w =
-  // 1 where known (see shaders/gbuffer_fragment.glsl.h). For inspection and tests.
+  // 1 where known (see shaders/gbuffer_fragment.glsl.h); outside the region
+  // a playback step drew (RenderSettings::changed_region_only), an earlier
+  // frame's. For inspection and tests.
   std::vector<glm::vec4> read_motion() const;
   // The accumulation's running second moments per pixel (rows top to
   // bottom): the mean over its samples of the Combined colour's Y, Co and
