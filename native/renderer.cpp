@@ -613,11 +613,15 @@ void Renderer::add_frame() {
     vk::memory_barrier(cmd, VK_ACCESS_SHADER_WRITE_BIT, VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT,
                        VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT);
   };
-  // A step that keeps history draws the region its change can reach and
-  // the pixels not yet settled before it; nothing outside reads this
-  // frame's G-buffer, and history stands there as it was.
+  // A playback step that keeps history draws the region its change can
+  // reach and the pixels not yet settled before it; nothing outside reads
+  // this frame's G-buffer, and history stands there as it was. Only a step
+  // drawn at the pixel centres: a jittered sample at a still silhouette may
+  // see a surface its history never saw anywhere on screen (the jitter went
+  // on to an offset the still frames did not take), and such a pixel is
+  // shaded anew.
   const glm::ivec2 size(width_, height_);
-  const PixelRect drawn = keeps && settings_.changed_region_only
+  const PixelRect drawn = keeps && centred && settings_.changed_region_only
                               ? temporal_.keep_region(unsettled_.united(change_on_screen_))
                               : PixelRect::whole(size);
   stats_.drawn_share = double(drawn.size().x) * drawn.size().y / (double(width_) * height_);

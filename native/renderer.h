@@ -127,7 +127,8 @@ struct RenderSettings {
   // animation render that draws few samples a frame lets history stand for
   // the rest.
   int history_samples = 0;
-  // A playback step (temporal reuse under the same camera and lights) draws
+  // A playback step (temporal reuse under the same camera and lights, drawn
+  // at the pixel centres after something moved) draws
   // its G-buffer and keeps history over the region its change can reach on
   // screen (screen_region.h) and the pixels left unsettled before it; the
   // rest of the image is history as it was. Off: over the whole image (to

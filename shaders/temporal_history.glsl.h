@@ -86,23 +86,6 @@ bool near_depth(ivec2 q, float depth) {
   return false;
 }
 
-// Where the nearest surface history saw on the ray through `on_ray` lay:
-// on that ray at history's nearest depth `nearest`.
-vec3 history_front(float nearest, vec3 on_ray) {
-  vec3 camera = frame.camera_position.xyz, forward = frame.camera_forward.xyz;
-  vec3 ray = frame.camera_position.w > 0.5 ? forward : normalize(on_ray - camera);
-  return on_ray + ray * ((nearest - dot(on_ray - camera, forward)) / max(dot(ray, forward), 1e-3));
-}
-
-// Whether a surface history saw at p was what moved: in the box of what
-// moved, casting shadows or not, give or take the jitter's reach and two
-// pixels (history saw it within the jitter's reach of the pixel's ray,
-// read bilinearly; a whole box's size more took in the ground's far edge,
-// and the horizon never settled).
-bool in_moved_box(vec3 p) {
-  return within_box(p, frame.moved_lo, frame.moved_hi, (pc.jitter_reach + 2.0) * pixel_width_at(p));
-}
-
 struct History {
   bool disoccluded;      // history there shows other surfaces only (or the point was behind the last camera)
   vec4 color;            // history's Combined, read bilinearly where the point was
@@ -158,13 +141,6 @@ History find_history(ivec2 pixel, vec4 position) {
   // Where the surface point was: pixel centre + motion (in pixels), read
   // bilinearly (nothing where it was behind the last camera).
   vec2 at = vec2(pixel) + 0.5 + motion.xy * 0.5 * vec2(pc.image_size) - 0.5;
-  // Where the point was right here (no motion, the camera still) and what
-  // history saw in front was not what moved, its own texel's history stands
-  // even where no texel within the jitter's reach saw this depth: the
-  // jitter went on to an offset the still frames did not take, and this
-  // frame's sample sees a surface beside the ones they saw (a still
-  // silhouette). That is no disocclusion, and it counts as few samples.
-  bool in_place = all(lessThan(abs(at - vec2(pixel)), vec2(1e-3)));
   ivec2 base = ivec2(floor(at));
   vec2 f = at - vec2(base);
   float weights = 0.0;
@@ -174,8 +150,7 @@ History find_history(ivec2 pixel, vec4 position) {
     vec4 before = imageLoad(history_passes, corner);
     h.full_samples = min(h.full_samples, before.z);
     if (!saw_depth(before, motion.z)) {
-      bool jittered_beside = in_place && k == 0 && !in_moved_box(history_front(before.x, h.on_ray));
-      if (!jittered_beside && !near_depth(corner, motion.z)) continue;
+      if (!near_depth(corner, motion.z)) continue;
       before.z = min(before.z, kNearbyHistorySamples);
     }
     vec2 bilinear = mix(1.0 - f, f, vec2(k & 1, k >> 1));
@@ -199,8 +174,17 @@ History find_history(ivec2 pixel, vec4 position) {
   // (The same for the background: where an object moved off it, history
   // near its old outline still holds it.)
   if (h.nearest < kNothingHitDepth) {
-    float depth = background ? kNothingHitDepth : dot(h.on_ray - frame.camera_position.xyz, frame.camera_forward.xyz);
-    h.front_moved = h.nearest < depth * (1.0 - pc.depth_tolerance) && in_moved_box(history_front(h.nearest, h.on_ray));
+    vec3 camera = frame.camera_position.xyz, forward = frame.camera_forward.xyz;
+    vec3 ray = frame.camera_position.w > 0.5 ? forward : normalize(h.on_ray - camera);
+    float depth = background ? kNothingHitDepth : dot(h.on_ray - camera, forward);
+    vec3 history_front = h.on_ray + ray * ((h.nearest - dot(h.on_ray - camera, forward)) / max(dot(ray, forward), 1e-3));
+    // (that front surface was seen within the jitter's reach of this pixel's
+    // ray, read bilinearly: a moved object's lies in the box of what moved,
+    // casting shadows or not, give or take that many pixels; a whole box's
+    // size more took in the ground's far edge, and the horizon never settled)
+    h.front_moved = h.nearest < depth * (1.0 - pc.depth_tolerance) &&
+                    within_box(history_front, frame.moved_lo, frame.moved_hi,
+                               (pc.jitter_reach + 2.0) * pixel_width_at(history_front));
   }
   for (int l = 0; l < pc.light_count && !background; ++l)
     if (light_path_crosses_change(position.xyz, l)) h.shadow_may_move = true;
@@ -211,7 +195,7 @@ History find_history(ivec2 pixel, vec4 position) {
   // to offsets the still frames did not take); away from what moved, that
   // is the jitter, not motion, so its full history counts here.
   h.still = pc.same_lighting == 1u && min(h.full_samples, float(pc.history_samples)) >= float(pc.history_samples) &&
-            !h.front_moved && in_place;
+            !h.front_moved && all(lessThan(abs(at - vec2(pixel)), vec2(1e-3)));
   h.away = background || !in_contact_with_change(position.xyz);
   return h;
 }
