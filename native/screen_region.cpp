@@ -1,7 +1,6 @@
 #include "screen_region.h"
 
 #include <algorithm>
-#include <array>
 #include <cmath>
 #include <limits>
 
