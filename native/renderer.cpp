@@ -459,7 +459,7 @@ void Renderer::begin(GpuScene& scene, const Camera& camera, const std::vector<Li
     if (last_changes_->any_moved) put(last_changes_->moved, frame_data_.moved_lo, frame_data_.moved_hi);
   }
   change_on_screen_ = PixelRect{};
-  if (has_history_) {
+  if (has_history_ && camera_stayed_ && settings.changed_region_only) {  // (else no step is bounded by it)
     const glm::ivec2 size(width, height);
     const GpuScene::Changes& pending = scene.pending_changes();
     const bool untold = !scene_changed && (pending.everything || pending.any || pending.any_moved ||
