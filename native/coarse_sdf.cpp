@@ -56,15 +56,15 @@ void CoarseSdf::build(const GpuScene& scene, const GridSpec& grid, float beta_vo
   std::vector<VoxelizeItem> items;
   for (uint32_t i : scene.shadow_casters())
     items.push_back({scene.instances()[i].mesh, scene.instances()[i].object_to_world});
-  build(scene, grid, beta_voxels, items);
+  build(scene, grid, beta_voxels, items, Transform::JumpFlood);
 }
 
 void CoarseSdf::build_mesh(const GpuScene& scene, uint32_t mesh, const GridSpec& grid, float beta_voxels) {
-  build(scene, grid, beta_voxels, {{mesh, glm::mat4(1.0f)}});
+  build(scene, grid, beta_voxels, {{mesh, glm::mat4(1.0f)}}, Transform::Exact);
 }
 
 void CoarseSdf::build(const GpuScene& scene, const GridSpec& grid, float beta_voxels,
-                      const std::vector<VoxelizeItem>& items) {
+                      const std::vector<VoxelizeItem>& items, Transform transform) {
   allocate(grid);
   grid_ = grid;
   beta_world_ = beta_voxels * grid.voxel_size;
@@ -72,15 +72,21 @@ void CoarseSdf::build(const GpuScene& scene, const GridSpec& grid, float beta_vo
     timer_.begin(cmd);
     passes_->voxelize.record(cmd, scene, grid, seeds_, items);
     timer_.mark(cmd, "voxelize");
-    const vk::Image& nearest = passes_->jump_flood.record_flood(cmd, seeds_, flood_a_, flood_b_, &timer_);
-    passes_->jump_flood.record_distance(cmd, nearest, distance_, grid.voxel_size, beta_world_);
-    timer_.mark(cmd, "seed distance");
+    if (transform == Transform::Exact) {
+      passes_->exact_distance.record(cmd, seeds_, flood_a_, flood_b_, distance_, grid.voxel_size, beta_world_, &timer_);
+    } else {
+      const vk::Image& nearest = passes_->jump_flood.record_flood(cmd, seeds_, flood_a_, flood_b_, &timer_);
+      passes_->jump_flood.record_distance(cmd, nearest, distance_, grid.voxel_size, beta_world_);
+      timer_.mark(cmd, "seed distance");
+    }
   });
   timings_ = {};
   for (const vk::GpuTimer::Span& span : timer_.read()) {
     timings_.gpu_total_ms += span.ms;
     if (span.label == "voxelize") {
       timings_.voxelize_ms = span.ms;
+    } else if (span.label == "exact distance") {
+      timings_.exact_distance_ms = span.ms;
     } else if (span.label == "seed distance") {
       timings_.jump_flood_ms += span.ms;
     } else if (span.label.rfind("jump_flood", 0) == 0) {

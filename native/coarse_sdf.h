@@ -1,12 +1,15 @@
 #pragma once
-// Stage 1 of RTSDF: the coarse SDF, voxelize -> jump flood -> distance - beta.
-// The result stays on the device (distance()) for the later stages.
+// Stage 1 of RTSDF: the coarse SDF, voxelize -> distance transform (the
+// paper's jump flood for the whole scene's field, the exact transform for a
+// mesh's own) -> distance - beta. The result stays on the device
+// (distance()) for the later stages.
 #include <memory>
 #include <optional>
 #include <vector>
 
 #include "grid.h"
 #include "gpu_scene.h"
+#include "passes/exact_distance.h"
 #include "passes/jump_flood.h"
 #include "passes/voxelize.h"
 
@@ -19,8 +22,9 @@ struct CoarseSdfSettings {
 
 struct CoarseSdfTimings {
   double voxelize_ms = 0.0;
-  double jump_flood_ms = 0.0;     // all flood passes plus the distance conversion
+  double jump_flood_ms = 0.0;     // all flood passes plus the distance conversion (the whole scene's field)
   std::vector<double> pass_ms;    // each flood pass, in order
+  double exact_distance_ms = 0.0; // the exact transform's three passes (a mesh's field)
   double gpu_total_ms = 0.0;
 };
 
@@ -29,9 +33,10 @@ size_t coarse_sdf_bytes(const GridSpec& grid);
 
 // The passes a coarse SDF is built with; fields may share one (its pipelines are the costly part).
 struct CoarsePasses {
-  explicit CoarsePasses(const vk::Context& context) : voxelize(context), jump_flood(context) {}
+  explicit CoarsePasses(const vk::Context& context) : voxelize(context), jump_flood(context), exact_distance(context) {}
   VoxelizePass voxelize;
   JumpFloodPass jump_flood;
+  ExactDistancePass exact_distance;
 };
 
 class CoarseSdf {
@@ -40,10 +45,13 @@ class CoarseSdf {
   explicit CoarseSdf(const vk::Context& context, std::shared_ptr<CoarsePasses> passes = nullptr);
 
   // Builds the coarse SDF of the scene's shadow casters on `grid` in world
-  // space (usually fit_grid(scene.bounds(), ...)).
+  // space (usually fit_grid(scene.bounds(), ...)), by the paper's jump flood.
   // Throws rtsdf::Error if the grid does not fit in device memory.
   void build(const GpuScene& scene, const GridSpec& grid, float beta_voxels);
-  // Builds the coarse SDF of one mesh alone on `grid` in the mesh's own space.
+  // Builds the coarse SDF of one mesh alone on `grid` in the mesh's own
+  // space, by the exact distance transform: a deforming mesh's field is
+  // built every frame, and the flood's 27 reads a voxel in each of its
+  // passes were most of that build.
   void build_mesh(const GpuScene& scene, uint32_t mesh, const GridSpec& grid, float beta_voxels);
   // Device memory of the grid's images.
   size_t bytes() const { return coarse_sdf_bytes(grid_); }
@@ -62,7 +70,9 @@ class CoarseSdf {
 
  private:
   void allocate(const GridSpec& grid);
-  void build(const GpuScene& scene, const GridSpec& grid, float beta_voxels, const std::vector<VoxelizeItem>& items);
+  enum class Transform { JumpFlood, Exact };
+  void build(const GpuScene& scene, const GridSpec& grid, float beta_voxels, const std::vector<VoxelizeItem>& items,
+             Transform transform);
 
   const vk::Context& context_;
   std::shared_ptr<CoarsePasses> passes_;
