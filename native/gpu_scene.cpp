@@ -171,11 +171,6 @@ RasterMesh raster_mesh(const Mesh& mesh) {
   return out;
 }
 
-template <typename T>
-void write_range(const vk::Context& context, const vk::Buffer& buffer, size_t first, const std::vector<T>& data) {
-  vk::write_buffer(context, buffer, first * sizeof(T), data.data(), data.size() * sizeof(T));
-}
-
 }  // namespace
 
 void GpuScene::upload_raster() {
@@ -208,12 +203,14 @@ bool GpuScene::write_raster_in_place(uint32_t mesh) {
   RasterMesh one = raster_mesh(scene_.meshes[mesh]);
   if (one.positions.size() != range.vertex_count || one.indices.size() != 3 * size_t(range.triangle_count))
     return false;
-  write_range(context_, positions_, range.base_vertex, one.positions);
-  write_range(context_, normals_, range.base_vertex, one.normals);
-  write_range(context_, uvs_, range.base_vertex, one.uvs);
-  write_range(context_, colors_, range.base_vertex, one.colors);
-  write_range(context_, vertex_materials_, range.base_vertex, one.slots);
-  write_range(context_, indices_, range.first_index, one.indices);
+  vk::BufferWrites writes;
+  writes.add_range(positions_, range.base_vertex, one.positions);
+  writes.add_range(normals_, range.base_vertex, one.normals);
+  writes.add_range(uvs_, range.base_vertex, one.uvs);
+  writes.add_range(colors_, range.base_vertex, one.colors);
+  writes.add_range(vertex_materials_, range.base_vertex, one.slots);
+  writes.add_range(indices_, range.first_index, one.indices);
+  writes.submit(context_);
   return true;
 }
 
@@ -315,9 +312,11 @@ bool GpuScene::write_bottom_level_in_place(uint32_t mesh) {
   uint32_t first_triangle = 0;
   for (uint32_t m = 0; m < mesh; ++m) first_triangle += uint32_t(bottom_levels_[m].corners.size() / 3);
   const uint32_t root = blas_roots_[mesh];
-  write_range(context_, rays_.bottom_nodes, root, gpu_nodes(level.bvh, root, first_triangle));
-  write_range(context_, rays_.winding_dipoles, root, level.dipoles);
-  write_range(context_, rays_.triangles, 3 * size_t(first_triangle), level.corners);
+  vk::BufferWrites writes;
+  writes.add_range(rays_.bottom_nodes, root, gpu_nodes(level.bvh, root, first_triangle));
+  writes.add_range(rays_.winding_dipoles, root, level.dipoles);
+  writes.add_range(rays_.triangles, 3 * size_t(first_triangle), level.corners);
+  writes.submit(context_);
   if (mesh < mesh_tops_.size()) mesh_tops_[mesh] = MeshTop{};  // (its root node's box changed)
   return true;
 }

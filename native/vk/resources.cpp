@@ -164,18 +164,35 @@ Buffer upload_buffer(const Context& context, const void* data, VkDeviceSize size
 
 void write_buffer(const Context& context, const Buffer& buffer, VkDeviceSize offset, const void* data,
                   VkDeviceSize size) {
+  BufferWrites writes;
+  writes.add(buffer, offset, data, size);
+  writes.submit(context);
+}
+
+void BufferWrites::add(const Buffer& buffer, VkDeviceSize offset, const void* data, VkDeviceSize size) {
   if (size == 0) return;
   if (offset + size > buffer.size()) throw Error("write_buffer: the range ends past the buffer");
-  Buffer staging(context, size, VK_BUFFER_USAGE_TRANSFER_SRC_BIT, Buffer::Access::HostVisible);
-  std::memcpy(staging.mapped(), data, size);
+  writes_.push_back({buffer.handle(), offset, size, bytes_.size()});
+  const uint8_t* from = static_cast<const uint8_t*>(data);
+  bytes_.insert(bytes_.end(), from, from + size);
+}
+
+void BufferWrites::submit(const Context& context) {
+  if (writes_.empty()) return;
+  Buffer staging(context, bytes_.size(), VK_BUFFER_USAGE_TRANSFER_SRC_BIT, Buffer::Access::HostVisible);
+  std::memcpy(staging.mapped(), bytes_.data(), bytes_.size());
   context.submit_and_wait([&](VkCommandBuffer cmd) {
     memory_barrier(cmd, VK_ACCESS_MEMORY_READ_BIT, VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT,
                    VK_PIPELINE_STAGE_TRANSFER_BIT);
-    VkBufferCopy region{0, offset, size};
-    vkCmdCopyBuffer(cmd, staging.handle(), buffer.handle(), 1, &region);
+    for (const Write& write : writes_) {
+      VkBufferCopy region{write.staged, write.offset, write.size};
+      vkCmdCopyBuffer(cmd, staging.handle(), write.buffer, 1, &region);
+    }
     memory_barrier(cmd, VK_ACCESS_TRANSFER_WRITE_BIT, VK_ACCESS_MEMORY_READ_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT,
                    VK_PIPELINE_STAGE_ALL_COMMANDS_BIT);
   });
+  writes_.clear();
+  bytes_.clear();
 }
 
 void make_general(const Context& context, std::initializer_list<const Image*> images) {

@@ -4,7 +4,9 @@
 #include <volk.h>
 
 #include <cstddef>
+#include <cstdint>
 #include <initializer_list>
+#include <vector>
 #include <glm/glm.hpp>
 
 namespace rtsdf::vk {
@@ -77,6 +79,27 @@ Buffer upload_buffer(const Context& context, const void* data, VkDeviceSize size
 // has read it and before any work submitted after reads it.
 void write_buffer(const Context& context, const Buffer& buffer, VkDeviceSize offset, const void* data,
                   VkDeviceSize size);
+// Several such writes, gathered and made in one submission through one
+// staging buffer (each submission waits for the device: a deformed mesh's
+// ranges were nine of them a frame).
+class BufferWrites {
+ public:
+  // Copies `data` now; written by submit().
+  void add(const Buffer& buffer, VkDeviceSize offset, const void* data, VkDeviceSize size);
+  template <typename T>
+  void add_range(const Buffer& buffer, size_t first, const std::vector<T>& items) {
+    add(buffer, first * sizeof(T), items.data(), items.size() * sizeof(T));
+  }
+  void submit(const Context& context);
+
+ private:
+  struct Write {
+    VkBuffer buffer;
+    VkDeviceSize offset, size, staged;  // (staged: where its bytes start in the staging buffer)
+  };
+  std::vector<Write> writes_;
+  std::vector<uint8_t> bytes_;
+};
 
 // Barrier helpers for the common "previous writes visible to next reads" case.
 void image_barrier(VkCommandBuffer cmd, VkImage image, VkImageLayout from, VkImageLayout to,
