@@ -181,8 +181,8 @@ TEST_F(CoarseSdfAnalytic, AMeshFieldIsTheExactDistanceToTheNearestSeed) {
         flood_misses += flood_distance[i] > exact_distance[i] + 1e-4f * grid.voxel_size;
         flood_nearer += flood_distance[i] < exact_distance[i] - 1e-4f * grid.voxel_size;
       }
-  std::printf("exact distance 40: %zu seeds, %zu voxels wrong; the flood missed the nearest seed at %zu voxels\n",
-              seeded.size(), wrong, flood_misses);
+  std::printf("exact distance %dx%dx%d: %zu seeds, %zu voxels wrong; the flood missed the nearest seed at %zu voxels\n",
+              grid.dims.x, grid.dims.y, grid.dims.z, seeded.size(), wrong, flood_misses);
   EXPECT_EQ(wrong, 0u);
   EXPECT_EQ(flood_nearer, 0u);
   EXPECT_GT(exact.timings().exact_distance_ms, 0.0);
