@@ -19,9 +19,13 @@ layout(binding = 1, r32ui) uniform writeonly uimage3D squared_out;  // (not the 
 layout(binding = 2, r32f) uniform writeonly image3D distance_out;   // (the last pass's)
 layout(push_constant) uniform Push { SeedDistancePush pc; };  // (scale: the last pass's)
 layout(constant_id = 0) const int kAxis = 0;  // 0: the first pass (x), 2: the last (z)
+// The longest line the pipeline takes (a power of two, up to 1 << kSeedBits):
+// each invocation holds three arrays of it in private memory, which GPUs
+// reserve for every invocation that may run at once, so the pipeline is
+// sized to the grid (ExactDistancePass picks it).
+layout(constant_id = 1) const int kMaxLine = 1 << kSeedBits;
 
 const uint kNone = 0xFFFFFFFFu;  // no seed on the line yet, or anywhere (squared distances are far below)
-const int kMaxLine = 1 << kSeedBits;  // (seed coordinates hold this many voxels an axis)
 
 // The voxel at `along` on the line.
 ivec3 voxel(ivec3 line_start, int along) {

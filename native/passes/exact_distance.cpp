@@ -1,5 +1,8 @@
 #include "passes/exact_distance.h"
 
+#include <algorithm>
+
+#include "error.h"
 #include "shaders/shared.h"
 #include "spirv/spirv_exact_distance_comp.h"
 #include "vk/context.h"
@@ -12,22 +15,33 @@ const std::vector<VkDescriptorType> kBindings = {VK_DESCRIPTOR_TYPE_STORAGE_IMAG
 constexpr uint32_t kLinesPerGroup = 64;  // (the shader's local size)
 }  // namespace
 
-ExactDistancePass::ExactDistancePass(const vk::Context& context)
-    : axis_x_(context, RTSDF_SPIRV(spirv_exact_distance_comp), kBindings, sizeof(gpu::SeedDistancePush), {0u}),
-      axis_y_(context, RTSDF_SPIRV(spirv_exact_distance_comp), kBindings, sizeof(gpu::SeedDistancePush), {1u}),
-      axis_z_(context, RTSDF_SPIRV(spirv_exact_distance_comp), kBindings, sizeof(gpu::SeedDistancePush), {2u}) {}
+ExactDistancePass::ExactDistancePass(const vk::Context& context) : context_(context) {}
+
+const ExactDistancePass::AxisPipelines& ExactDistancePass::pipelines(int longest) {
+  int line = 16;
+  while (line < longest) line *= 2;
+  if (line > (1 << gpu::kSeedBits)) throw Error("exact distance: a grid axis is longer than seeds can hold");
+  AxisPipelines& made = by_line_[line];
+  for (uint32_t axis = 0; axis < 3; ++axis)
+    if (!made[axis])
+      made[axis] = std::make_unique<vk::Pipeline>(context_, RTSDF_SPIRV(spirv_exact_distance_comp), kBindings,
+                                                  uint32_t(sizeof(gpu::SeedDistancePush)),
+                                                  std::vector<uint32_t>{axis, uint32_t(line)});
+  return made;
+}
 
 void ExactDistancePass::record(VkCommandBuffer cmd, const vk::Image& seeds, const vk::Image& a, const vk::Image& b,
                                const vk::Image& distance, float voxel_size, float beta_world,
-                               vk::GpuTimer* timer) const {
+                               vk::GpuTimer* timer) {
   const glm::ivec3 dims = seeds.dims();
+  const AxisPipelines& axis = pipelines(std::max(dims.x, std::max(dims.y, dims.z)));
   const gpu::SeedDistancePush push{glm::ivec4(dims, 0), glm::vec4(voxel_size, beta_world, 0, 0)};
   const struct {
     const vk::Pipeline& pipeline;
     const vk::Image& in;
     const vk::Image& out;
     int lines;  // the grid's lines along the pass's axis
-  } passes[] = {{axis_x_, seeds, a, dims.y * dims.z}, {axis_y_, a, b, dims.z * dims.x}, {axis_z_, b, a, dims.x * dims.y}};
+  } passes[] = {{*axis[0], seeds, a, dims.y * dims.z}, {*axis[1], a, b, dims.z * dims.x}, {*axis[2], b, a, dims.x * dims.y}};
   for (const auto& pass : passes) {
     vk::memory_barrier(cmd, VK_ACCESS_SHADER_WRITE_BIT, VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT,
                        VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT,
