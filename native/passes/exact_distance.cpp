@@ -43,9 +43,7 @@ void ExactDistancePass::record(VkCommandBuffer cmd, const vk::Image& seeds, cons
     int lines;  // the grid's lines along the pass's axis
   } passes[] = {{*axis[0], seeds, a, dims.y * dims.z}, {*axis[1], a, b, dims.z * dims.x}, {*axis[2], b, a, dims.x * dims.y}};
   for (const auto& pass : passes) {
-    vk::memory_barrier(cmd, VK_ACCESS_SHADER_WRITE_BIT, VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT,
-                       VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT,
-                       VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT);
+    vk::shader_writes_to_compute(cmd);
     pass.pipeline.bind(cmd);
     pass.pipeline.push_descriptors(cmd, {vk::Resource::storage_image(pass.in), vk::Resource::storage_image(pass.out),
                                          vk::Resource::storage_image(distance)});

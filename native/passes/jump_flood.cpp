@@ -9,16 +9,6 @@
 
 namespace rtsdf {
 
-namespace {
-
-void compute_to_compute(VkCommandBuffer cmd) {
-  vk::memory_barrier(cmd, VK_ACCESS_SHADER_WRITE_BIT, VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT,
-                     VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT,
-                     VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT);
-}
-
-}  // namespace
-
 JumpFloodPass::JumpFloodPass(const vk::Context& context)
     : flood_(context, RTSDF_SPIRV(spirv_jump_flood_comp),
              {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE}, sizeof(gpu::JumpFloodPush)),
@@ -41,7 +31,7 @@ const vk::Image& JumpFloodPass::record_flood(VkCommandBuffer cmd, const vk::Imag
   const vk::Image* spare = &b;
   flood_.bind(cmd);
   for (int step : steps(seeds.dims())) {
-    compute_to_compute(cmd);
+    vk::shader_writes_to_compute(cmd);
     flood_.push_descriptors(cmd, {vk::Resource::storage_image(*source), vk::Resource::storage_image(*target)});
     flood_.push_constants(cmd, gpu::JumpFloodPush{glm::ivec4(a.dims(), step)});
     vk::dispatch_grid(cmd, a.dims(), gpu::kGroupShape3D);
@@ -54,7 +44,7 @@ const vk::Image& JumpFloodPass::record_flood(VkCommandBuffer cmd, const vk::Imag
 
 void JumpFloodPass::record_distance(VkCommandBuffer cmd, const vk::Image& seeds, const vk::Image& distance,
                                     float voxel_size, float beta_world) const {
-  compute_to_compute(cmd);
+  vk::shader_writes_to_compute(cmd);
   distance_.bind(cmd);
   distance_.push_descriptors(cmd, {vk::Resource::storage_image(seeds), vk::Resource::storage_image(distance)});
   distance_.push_constants(cmd, gpu::SeedDistancePush{glm::ivec4(seeds.dims(), 0), glm::vec4(voxel_size, beta_world, 0, 0)});

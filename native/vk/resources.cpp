@@ -162,16 +162,9 @@ Buffer upload_buffer(const Context& context, const void* data, VkDeviceSize size
   return buffer;
 }
 
-void write_buffer(const Context& context, const Buffer& buffer, VkDeviceSize offset, const void* data,
-                  VkDeviceSize size) {
-  BufferWrites writes;
-  writes.add(buffer, offset, data, size);
-  writes.submit(context);
-}
-
 void BufferWrites::add(const Buffer& buffer, VkDeviceSize offset, const void* data, VkDeviceSize size) {
   if (size == 0) return;
-  if (offset + size > buffer.size()) throw Error("write_buffer: the range ends past the buffer");
+  if (offset + size > buffer.size()) throw Error("BufferWrites: the range ends past the buffer");
   writes_.push_back({buffer.handle(), offset, size, bytes_.size()});
   const uint8_t* from = static_cast<const uint8_t*>(data);
   bytes_.insert(bytes_.end(), from, from + size);
@@ -225,6 +218,12 @@ void memory_barrier(VkCommandBuffer cmd, VkAccessFlags src_access, VkAccessFlags
   barrier.srcAccessMask = src_access;
   barrier.dstAccessMask = dst_access;
   vkCmdPipelineBarrier(cmd, src_stage, dst_stage, 0, 1, &barrier, 0, nullptr, 0, nullptr);
+}
+
+void shader_writes_to_compute(VkCommandBuffer cmd) {
+  memory_barrier(cmd, VK_ACCESS_SHADER_WRITE_BIT, VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT,
+                 VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT,
+                 VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT);
 }
 
 Buffer download_image(const Context& context, const Image& image, VkDeviceSize bytes_per_texel) {

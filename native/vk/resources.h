@@ -74,14 +74,11 @@ class Image {
 
 // Uploads host data into a new device-local buffer through a staging copy.
 Buffer upload_buffer(const Context& context, const void* data, VkDeviceSize size, VkBufferUsageFlags usage);
-// Overwrites `size` bytes of a device-local buffer (made with TRANSFER_DST
-// usage, as upload_buffer's are) at `offset`, after the work submitted before
-// has read it and before any work submitted after reads it.
-void write_buffer(const Context& context, const Buffer& buffer, VkDeviceSize offset, const void* data,
-                  VkDeviceSize size);
-// Several such writes, gathered and made in one submission through one
-// staging buffer (each submission waits for the device: a deformed mesh's
-// ranges were nine of them a frame).
+// Overwrites of ranges of device-local buffers (made with TRANSFER_DST
+// usage, as upload_buffer's are), after the work submitted before has read
+// them and before any work submitted after reads them: gathered and made in
+// one submission through one staging buffer (each submission waits for the
+// device: a deformed mesh's ranges were nine of them a frame).
 class BufferWrites {
  public:
   // Copies `data` now; written by submit().
@@ -107,6 +104,8 @@ void image_barrier(VkCommandBuffer cmd, VkImage image, VkImageLayout from, VkIma
                    VkPipelineStageFlags dst_stage);
 void memory_barrier(VkCommandBuffer cmd, VkAccessFlags src_access, VkAccessFlags dst_access,
                     VkPipelineStageFlags src_stage, VkPipelineStageFlags dst_stage);
+// What compute or fragment shaders wrote, visible to the next compute pass's reads and writes.
+void shader_writes_to_compute(VkCommandBuffer cmd);
 
 // Moves freshly created colour images into GENERAL, the layout every pass
 // uses them in (storage images), before any pass touches them.
