@@ -111,6 +111,8 @@ GpuScene::RayTargets GpuScene::mesh_rays(uint32_t mesh) {
     gpu::RayInstance instance{};
     instance.world_to_object = instance.object_to_world = glm::mat4(1.0f);
     instance.blas_root = blas_roots_[mesh];
+    instance.first_triangle = first_triangles_[mesh];
+    instance.triangle_count = uint32_t(bottom_levels_[mesh].corners.size() / 3);
     top.top_nodes = storage(context_, std::vector<gpu::BvhNode>{root});
     top.instances = storage(context_, std::vector<gpu::RayInstance>{instance});
   }
@@ -281,11 +283,13 @@ void GpuScene::upload_bottom_levels() {
   std::vector<gpu::WindingDipole> dipoles;
   std::vector<glm::vec4> corners;
   blas_roots_.clear();
+  first_triangles_.clear();
   node_capacities_.clear();
   for (uint32_t m = 0; m < bottom_levels_.size(); ++m) {
     const BottomLevel& level = bottom_levels_[m];
     const uint32_t node_offset = uint32_t(nodes.size()), triangle_offset = uint32_t(corners.size() / 3);
     blas_roots_.push_back(node_offset);
+    first_triangles_.push_back(triangle_offset);
     const std::vector<gpu::BvhNode> mesh_nodes = gpu_nodes(level.bvh, node_offset, triangle_offset);
     nodes.insert(nodes.end(), mesh_nodes.begin(), mesh_nodes.end());
     dipoles.insert(dipoles.end(), level.dipoles.begin(), level.dipoles.end());
@@ -307,10 +311,8 @@ void GpuScene::upload_bottom_levels() {
 bool GpuScene::write_bottom_level_in_place(uint32_t mesh) {
   const BottomLevel& level = bottom_levels_[mesh];
   if (level.bvh.nodes.size() > node_capacities_[mesh]) return false;
-  // Its triangles start where the meshes before it end (the caller has
-  // checked that the triangle count is the same).
-  uint32_t first_triangle = 0;
-  for (uint32_t m = 0; m < mesh; ++m) first_triangle += uint32_t(bottom_levels_[m].corners.size() / 3);
+  // (the caller has checked that the triangle count is the same)
+  const uint32_t first_triangle = first_triangles_[mesh];
   const uint32_t root = blas_roots_[mesh];
   vk::BufferWrites writes;
   writes.add_range(rays_.bottom_nodes, root, gpu_nodes(level.bvh, root, first_triangle));
@@ -343,6 +345,8 @@ void GpuScene::build_top_level() {
     ray.world_to_object = glm::inverse(instance.object_to_world);
     ray.object_to_world = instance.object_to_world;
     ray.blas_root = blas_roots_[instance.mesh];
+    ray.first_triangle = first_triangles_[instance.mesh];
+    ray.triangle_count = uint32_t(bottom_levels_[instance.mesh].corners.size() / 3);
     ray.mirrored = glm::determinant(glm::mat3(instance.object_to_world)) < 0.0f ? 1u : 0u;
     instances.push_back(ray);
   }

@@ -174,6 +174,7 @@ class GpuScene {
   };
   std::vector<BottomLevel> bottom_levels_;  // per mesh
   std::vector<uint32_t> blas_roots_;
+  std::vector<uint32_t> first_triangles_;  // per mesh: where its triangles start in the triangle buffer
   std::vector<size_t> node_capacities_;  // per mesh: the nodes its range in bottom_nodes can hold
   RayStructures rays_;
   double bvh_build_ms_ = 0.0;

@@ -24,21 +24,15 @@ size_t field_bytes(const Bounds& bounds, int coarse_resolution, int fine_resolut
 // seldom packs twice in a frame.
 constexpr float kDeformingSlack = 0.25f;
 
-// A field rebuilt every frame because its mesh deforms, with its history
-// kept, traces half the rays per texel (but no fewer than this): the
-// history carries the rest. Measured on bench/run's character scene (a
-// skinned character on motion capture, 320x180, 13 frames between two
-// poses, 8 rays set): the last frame's shadow RMSE 0.0932 against 0.0973
-// with 8 rays for it too, its fine trace 108 ms against 152; 2 rays: 0.1124.
-constexpr int kDeformingMinRays = 4;
-
 // The trace settings of a field's next update: one rebuilt every frame
-// keeps its history, so its texels' convergence is never final.
+// keeps its history, so its texels' convergence is never final, and traces
+// kDeformingRaysPerTexel rays (at most): each texel measures its kept
+// nearest triangle again in the new shape (fine_trace.comp), and the rays
+// mostly decide its sign.
 FineTraceSettings trace_settings(const FineTraceSettings& settings, bool rebuilt_every_frame) {
   FineTraceSettings trace = settings;
   trace.skip_converged = settings.skip_converged && !rebuilt_every_frame;
-  if (rebuilt_every_frame)
-    trace.rays_per_texel = std::min(settings.rays_per_texel, std::max(kDeformingMinRays, settings.rays_per_texel / 2));
+  if (rebuilt_every_frame) trace.rays_per_texel = std::min(settings.rays_per_texel, kDeformingRaysPerTexel);
   return trace;
 }
 

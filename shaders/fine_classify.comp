@@ -19,6 +19,7 @@
 #include "shared.h"
 #include "seed_common.glsl.h"  // texel indices are packed like seeds
 #include "brick_layout.glsl.h"
+#include "fine_history.glsl.h"
 
 layout(local_size_x = 64) in;
 layout(binding = 0, r32f) uniform readonly image3D coarse;
@@ -67,18 +68,18 @@ void classify(ivec3 p, bool fresh) {
     bool focused = pc.coarse_beta.y != 0.0;
     bool in_focus = all(greaterThanEqual(p, unpack_seed(pc.schedule.z))) && all(lessThanEqual(p, unpack_seed(pc.schedule.w)));
     bool my_turn = (turn + pc.schedule.y) % pc.schedule.x == 0u && (!focused || in_focus);
-    if (pc.coarse_beta.z != 0.0 && !fresh && my_turn) my_turn = imageLoad(history, p).x != 0.0;
+    if (pc.coarse_beta.z != 0.0 && !fresh && my_turn) my_turn = history_improving(imageLoad(history, p));
     if (fresh || my_turn) {
       uint slot = atomicAdd(trace_count, 1u);
       trace_texels[slot] = pack_seed(p);
       // (the trace reads history after a first frame: it starts here from
       // the upper bound a first frame's trace starts from)
-      if (fresh && pc.coarse_dims.w == 0) imageStore(history, p, vec4(0.0, 0.0, max(c + pc.params.z, 0.0), pc.params.w));
+      if (fresh && pc.coarse_dims.w == 0) imageStore(history, p, make_history(false, kNoTriangle, 0u, max(c + pc.params.z, 0.0), pc.params.w));
     }
   } else {
     float far_field = c + pc.coarse_beta.x;
     imageStore(fine, p, vec4(far_field));
-    imageStore(history, p, vec4(0.0, 0.0, far_field, pc.params.w));
+    imageStore(history, p, make_history(false, kNoTriangle, 0u, far_field, pc.params.w));
   }
 }
 

@@ -1,10 +1,23 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
 // Fine SDF, step 3: each listed texel casts rays_per_texel rays (a spherical
-// Fibonacci set turned by a new rotation every frame) and updates
-//   f_t = min(alpha * f_{t-1} + (1 - alpha) * (c_t + bias), r_t)
-// with r_t the smallest distance from the texel to a triangle a ray hit. The
-// texel is inside (negative) where the generalized winding number of the
+// Fibonacci set turned by a new rotation every frame) and measures the
+// distance from its centre to every triangle they hit. The paper keeps the
+// smallest of them over frames as a value that decays towards the coarse
+// SDF's, f_t = min(alpha * f_{t-1} + (1 - alpha) * c_t, r_t), so that a
+// surface that moved away is forgotten, slowly. Here each texel keeps the
+// triangle instead (the nearest any of its traces hit, fine_history.glsl.h)
+// and measures it again every trace, in this frame's shape and place:
+//   f_t = min(c_t + bias, distance to the kept triangle, r_t).
+// Every term is an upper bound of the texel's distance in this frame, so a
+// surface that moved away leaves nothing stale behind, and a deforming mesh's
+// texels carry their nearest surface from frame to frame without a traversal
+// (a ray costs about as much however short; a distance to one triangle next
+// to nothing), which lets such meshes trace fewer rays a frame. The kept
+// triangle gives no vote on the sign: which side of it the texel is on says
+// nothing of the inside unless no other surface lies between them, and only
+// a ray can tell that.
+// The texel is inside (negative) where the generalized winding number of the
 // meshes' volumes says so (winding_number.glsl.h): it holds on cracked,
 // overlapping and inside-out parts, and it depends on the geometry alone, so
 // a moved object leaves no inside behind. Where every ray that met a volume
@@ -15,23 +28,26 @@
 // Sheets have no inside, and a closed piece thinner than a voxel has no
 // texel inside it, so marches through it would never see a negative value
 // (its shadow would be half lit). Such thin pieces are kept apart: the
-// distance g to their slabs (updated like f) and the stored value is
-// min(+-f, g). A closed thin piece reads as a slab half a voxel thick on
-// either side, a sheet (no thickness at all) a whole voxel: a march crossing
-// it must see a value well below zero to be blocked, and each half voxel of
-// slab widens the piece's shadow by as much.
+// distance g to their slabs, updated as the paper updates f (from rays
+// alone: a slab a kept triangle held in place every frame speckled the faces
+// beside thin parts), and the stored value is min(+-f, g). A closed thin
+// piece reads as a slab half a voxel thick on either side, a sheet (no
+// thickness at all) a whole voxel: a march crossing it must see a value well
+// below zero to be blocked, and each half voxel of slab widens the piece's
+// shadow by as much.
 // Texels whose rays found a surface closer (by a quarter voxel) than their
 // value are still improving (history.x, which the classify step of a still
 // field reads) and, in a still field, are counted: once none is, the field
 // has converged.
 #include "shared.h"
 #include "seed_common.glsl.h"  // texel indices are packed like seeds
+#include "fine_history.glsl.h"
 
 layout(local_size_x = RTSDF_TRACE_GROUP) in;
 #include "ray_trace.glsl.h"
 layout(binding = 4, r32f) uniform readonly image3D coarse;
 layout(binding = 5, r32f) uniform image3D fine;
-layout(binding = 6, rgba32f) uniform image3D history;  // x: 1 while improving, y unused; z: f, w: g
+layout(binding = 6, rgba32f) uniform image3D history;  // fine_history.glsl.h
 layout(std430, binding = 7) readonly buffer TraceList { uint trace_count; uint trace_texels[]; };
 #define RTSDF_WINDING_BINDING 8
 #include "winding_number.glsl.h"
@@ -44,6 +60,24 @@ vec3 rotate(vec4 q, vec3 v) { return v + 2.0 * cross(q.xyz, cross(q.xyz, v) + q.
 
 float slab_half_thickness(float thickness) { return (thickness > 0.0 ? 0.5 : 1.0) * pc.fine_grid.w; }
 
+// What this texel's hits found: the nearest distance to any surface and to
+// a thin piece's slab, the votes of volumes at least a voxel thick (from
+// outside, from inside), and the nearest triangle.
+float nearest, nearest_slab;
+vec2 hits;
+uint nearest_triangle, nearest_instance;
+
+// A triangle at distance from the texel; by_ray: a ray met it (from the front or not).
+void take_hit(uint triangle, uint instance, float distance, bool by_ray, bool front) {
+  if (distance < nearest) nearest = distance, nearest_triangle = triangle, nearest_instance = instance;
+  if (!by_ray) return;
+  float thickness = piece_thickness(triangle, instance);
+  if (thickness < pc.fine_grid.w)
+    nearest_slab = min(nearest_slab, distance - slab_half_thickness(thickness));
+  else
+    hits += front != faces_in(triangle) ? vec2(1.0, 0.0) : vec2(0.0, 1.0);
+}
+
 void main() {
   uint item = gl_GlobalInvocationID.x;
   if (item >= trace_count) return;
@@ -51,11 +85,23 @@ void main() {
   vec3 world = pc.fine_grid.xyz + (vec3(p) + 0.5) * pc.fine_grid.w;
   float c = sample_coarse(world);
 
+  bool first_frame = pc.coarse_dims.w != 0;
+  bool still = pc.coarse_beta.z != 0.0;  // (only a still field's convergence is counted)
+  float alpha = pc.params.x;
+  float target = max(c + pc.params.z, 0.0);  // (params.z: the bias that makes it an upper bound)
+  vec4 previous = first_frame ? vec4(0.0, 0.0, target, pc.params.w) : imageLoad(history, p);
+
+  nearest = pc.params.w, nearest_slab = pc.params.w;
+  hits = vec2(0.0);
+  nearest_triangle = kNoTriangle, nearest_instance = 0u;
+  uint kept, kept_instance;
+  if (history_kept_triangle(previous, kept, kept_instance) && is_triangle_of(kept, kept_instance)) {
+    float distance = distance_to_hit(world, kept, kept_instance);
+    if (distance < pc.params.w) take_hit(kept, kept_instance, distance, false, false);
+  }
+
   const int rays = pc.fine_dims.w;
   const float golden_angle = 2.39996323;
-  // nearest_slab: distance to the nearest thin piece's slab (negative inside it).
-  float nearest = pc.params.w, nearest_slab = pc.params.w;
-  vec2 hits = vec2(0.0);  // from outside, from inside (volumes at least a voxel thick)
   for (int i = 0; i < rays; ++i) {
     float z = 1.0 - (2.0 * float(i) + 1.0) / float(rays);
     float r = sqrt(max(0.0, 1.0 - z * z));
@@ -64,31 +110,18 @@ void main() {
     bool front;
     uint triangle, instance;
     float t = trace_scene(world, dir, pc.params.w, false, front, triangle, instance);
-    if (t < pc.params.w) {
-      // The exact distance to the triangle hit is still an upper bound of the
-      // texel's distance, and no larger than t: minima converge much faster.
-      float distance = min(t, distance_to_hit(world, triangle, instance));
-      nearest = min(nearest, distance);
-      float thickness = piece_thickness(triangle, instance);
-      if (thickness < pc.fine_grid.w)
-        nearest_slab = min(nearest_slab, distance - slab_half_thickness(thickness));
-      else
-        hits += front != faces_in(triangle) ? vec2(1.0, 0.0) : vec2(0.0, 1.0);
-    }
+    // The exact distance to the triangle hit is still an upper bound of the
+    // texel's distance, and no larger than t: minima converge much faster.
+    if (t < pc.params.w) take_hit(triangle, instance, min(t, distance_to_hit(world, triangle, instance)), true, front);
   }
 
-  bool first_frame = pc.coarse_dims.w != 0;
-  bool still = pc.coarse_beta.z != 0.0;  // (only a still field's convergence is counted)
-  float alpha = pc.params.x;
-  float target = max(c + pc.params.z, 0.0);  // params.z = 0: the paper's c_t
-  vec4 previous = first_frame ? vec4(0.0, 0.0, target, pc.params.w) : imageLoad(history, p);
   bool unanimous = hits.x == 0.0 || hits.y == 0.0;
   bool inside = unanimous ? hits.y > 0.0 : inside_scene(world);
   // (a quarter voxel closer to a surface, or to a thin piece's slab)
   bool improving = first_frame || min(nearest - previous.z, nearest_slab - previous.w) < -0.25 * pc.fine_grid.w;
   if (improving && !first_frame && still) atomicAdd(improved, 1u);
-  float f = min(alpha * previous.z + (1.0 - alpha) * target, nearest);
+  float f = min(target, nearest);
   float g = min(alpha * previous.w + (1.0 - alpha) * pc.params.w, nearest_slab);
-  imageStore(history, p, vec4(improving ? 1.0 : 0.0, 0.0, f, g));
+  imageStore(history, p, make_history(improving, nearest_triangle, nearest_instance, f, g));
   imageStore(fine, p, vec4(min(inside ? -f : f, g)));
 }

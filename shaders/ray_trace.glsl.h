@@ -180,3 +180,9 @@ float distance_to_hit(vec3 p, uint triangle, uint instance) {
   vec3 c = (m * vec4(triangle_corners[3u * triangle + 2u].xyz, 1.0)).xyz;
   return point_triangle_distance(p, a, b, c);
 }
+
+// Whether triangle is one of the instance's mesh's (a triangle index kept
+// from an earlier frame may not be, once the scene's meshes changed).
+bool is_triangle_of(uint triangle, uint instance) {
+  return instance < uint(instances.length()) && triangle - instances[instance].first_triangle < instances[instance].triangle_count;
+}

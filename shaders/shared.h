@@ -80,8 +80,8 @@ struct RayInstance {
   mat4 object_to_world;
   uint blas_root;   // index of the mesh's root in the bottom-level node buffer
   uint mirrored;    // 1 if the transform flips winding (negative determinant)
-  uint pad0;
-  uint pad1;
+  uint first_triangle;  // the mesh's triangles in triangle_corners (3 corners each):
+  uint triangle_count;  // a triangle index kept from an earlier frame is checked against them
 };
 
 // One fine-SDF update (classify, then trace the band).

@@ -8,6 +8,7 @@
 #include "coarse_sdf.h"
 #include "fine_sdf.h"
 #include "mesh_import.h"
+#include "object_fields.h"
 #include "reference/exact.h"
 #include "reference/shapes.h"
 #include "vulkan_test.h"
@@ -489,6 +490,56 @@ TEST_F(FineSdfTest, DeformingMeshFollowsNewPositions) {
   ASSERT_GT(band.count, 500u);
   EXPECT_LT(band.mean_error, 0.35);
   EXPECT_LT(band.wrong_sign, 0.02);
+}
+
+// A real mesh (long thin triangles, open boundaries) under a travelling
+// wave, as a deforming mesh's field is updated in a viewport: every frame a
+// new shape, a new coarse SDF and one trace of each band texel with its
+// history kept, with the few rays such a field traces (each texel measures
+// its kept nearest triangle again in the new shape, fine_trace.comp). After
+// 12 frames of motion, up to about two fine voxels a frame, against
+// OpenVDB's exact field. When texels kept only a decaying value, 8 rays a
+// frame gave a mean error of 0.320 fine voxels here (what a surface left
+// behind stays until the decay forgets it).
+TEST_F(FineSdfTest, ADeformingRealMeshIsFollowedWithFewRays) {
+  const std::string path = testing::test_mesh_path();
+  Scene scene = import_scene(path);
+  ASSERT_EQ(scene.meshes.size(), 1u);
+  const std::vector<glm::vec3> rest = scene.meshes[0].positions;
+  GpuScene gpu_scene(context(), scene);
+  Bounds bounds = gpu_scene.bounds();
+  const glm::vec3 extent = bounds.extent();
+  const float length = std::max(extent.x, std::max(extent.y, extent.z)), amplitude = 0.05f * length;
+  bounds.lo -= glm::vec3(2.0f * amplitude);
+  bounds.hi += glm::vec3(2.0f * amplitude);
+  const GridSpec coarse_grid = fit_grid(bounds, 64);
+  const GridSpec grid = FineSdf::fit(coarse_grid, 96);
+  // The wave runs along x and lifts along z, half a radian a frame.
+  auto wave = [&](int frame) {
+    std::vector<glm::vec3> moved = rest;
+    for (glm::vec3& p : moved) p.z += amplitude * std::sin(6.2831853f * (p.x - bounds.lo.x) / length - 0.5f * float(frame));
+    return moved;
+  };
+  CoarseSdf coarse(context());
+  FineSdf fine(context());
+  FineTraceSettings settings;
+  auto update = [&](int frame) {
+    gpu_scene.set_mesh_positions(0, wave(frame));
+    coarse.build(gpu_scene, coarse_grid, 0.5f);
+    fine.update(gpu_scene, coarse, grid, settings);
+  };
+  for (int frame = 0; frame < 8; ++frame) update(0);  // (converged on the first shape)
+  settings.rays_per_texel = kDeformingRaysPerTexel;
+  for (int frame = 1; frame <= 12; ++frame) update(frame);
+  Scene last = scene;
+  last.meshes[0].positions = wave(12);
+  const std::vector<float> exact = reference::signed_distance(last, grid, 3.0f);
+  reference::FineErrors e = reference::compare_fine(fine.read_distance(), exact, grid, 2.0f);
+  std::printf("%s under a wave, 12 frames of %d rays: mean |fine-exact| %.3f fine voxels over %zu, wrong signs %.2f%%\n",
+              path.c_str(), settings.rays_per_texel, e.mean_abs_voxels, e.band_voxels, 100.0 * e.wrong_sign_share);
+  ASSERT_GT(e.band_voxels, 1000u);
+  EXPECT_LE(e.mean_abs_voxels, 0.2);
+  EXPECT_LE(e.wrong_sign_share, 0.01);
 }
 
 }  // namespace
