@@ -67,8 +67,9 @@ class RTSDFSettings(bpy.types.PropertyGroup):
                     "the field exact (soft penumbrae far from casters); more texels to trace")
     decay: FloatProperty(
         name="Decay", default=0.9, min=0.0, max=0.99,
-        description="Alpha: weight of the previous frame's fine SDF. Higher: converges further with less noise; "
-                    "a deforming mesh's field lags its shape longer")
+        description="Alpha: weight of the previous frame's distance to thin pieces (sheets, leaf cards) in the fine "
+                    "SDF. Higher: their slabs hold with less noise; a moving thin piece's slab lags it longer. "
+                    "Other texels keep their nearest triangle and measure it again each frame")
     rays_per_texel: IntProperty(
         name="Rays", default=8, min=1, max=64,
         description="Rays cast from each traced fine texel per frame. More: a field closer to exact in fewer "

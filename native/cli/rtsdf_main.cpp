@@ -197,7 +197,7 @@ int main(int argc, char** argv) {
   sdf_cmd->add_option("--d", sdf.fine.trace_band,
                       "Trace band d in coarse voxels: fine texels with coarse distance <= d are ray traced")
       ->capture_default_str();
-  sdf_cmd->add_option("--alpha", sdf.fine.decay, "Decay alpha: weight of the previous frame's fine SDF, in [0, 1)")
+  sdf_cmd->add_option("--alpha", sdf.fine.decay, "Decay alpha: weight of the previous frame's distance to thin pieces' slabs, in [0, 1) (other texels keep their nearest triangle)")
       ->capture_default_str();
   sdf_cmd->add_option("--rays", sdf.fine.rays_per_texel, "Rays per traced texel per frame")->capture_default_str();
   sdf_cmd->add_option("--interleave", sdf.fine.interleave,

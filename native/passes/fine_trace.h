@@ -11,7 +11,7 @@ namespace rtsdf {
 
 struct FineTraceSettings {
   float trace_band = 2.0f;      // d, in coarse voxels
-  float decay = 0.9f;           // alpha
+  float decay = 0.9f;           // alpha, of thin pieces' slabs (fine_trace.comp)
   int rays_per_texel = 8;
   // Each band texel is traced every `interleave`-th frame (frameless-rendering
   // style), after a first frame that traces them all: per-frame work drops
