@@ -26,9 +26,9 @@ constexpr float kDeformingSlack = 0.25f;
 
 // The trace settings of a field's next update: one rebuilt every frame
 // keeps its history, so its texels' convergence is never final, and traces
-// kDeformingRaysPerTexel rays (at most): each texel measures its kept
-// nearest triangle again in the new shape (fine_trace.comp), and the rays
-// mostly decide its sign.
+// kDeformingRaysPerTexel rays (at most): each texel measures its own and its
+// neighbours' kept nearest triangles again in the new shape
+// (fine_trace.comp), and the rays mostly check its sign.
 FineTraceSettings trace_settings(const FineTraceSettings& settings, bool rebuilt_every_frame) {
   FineTraceSettings trace = settings;
   trace.skip_converged = settings.skip_converged && !rebuilt_every_frame;

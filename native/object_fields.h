@@ -76,11 +76,13 @@ struct ObjectFieldStats {
 // Rays per texel and frame where a deforming mesh's field keeps its history
 // (a viewport's). FineSdfTest.ADeformingRealMeshIsFollowedWithFewRays, a
 // 20k-triangle CAD part under a travelling wave of up to two fine voxels a
-// frame, after 12 frames against OpenVDB (mean |error| in fine voxels, wrong
-// signs): 1 ray 0.478, 4.7%; 2 rays 0.166, 0.65%; 3 rays 0.121, 0.13%;
-// 4 rays 0.108, 0.12%; 8 rays 0.089, 0.12%. Before texels kept their nearest
-// triangle, 4 rays (then this setting) gave 0.343, 0.12%, and 8 rays 0.320.
-constexpr int kDeformingRaysPerTexel = 3;
+// frame, after 12 frames against OpenVDB (mean |error| in fine voxels,
+// wrong signs), with texels keeping their own and their neighbours'
+// nearest triangles and their last sign (fine_trace.comp): 1 ray 0.058,
+// 0.05%; 2 rays 0.057, 0.12%; 4 rays 0.064, 0.12%; 8 rays 0.071, 0.12%.
+// Before, when texels kept only a decaying value: 4 rays (then this
+// setting) 0.343, 0.12%; 8 rays 0.320.
+constexpr int kDeformingRaysPerTexel = 1;
 
 class ObjectFields {
  public:

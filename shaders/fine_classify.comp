@@ -74,12 +74,12 @@ void classify(ivec3 p, bool fresh) {
       trace_texels[slot] = pack_seed(p);
       // (the trace reads history after a first frame: it starts here from
       // the upper bound a first frame's trace starts from)
-      if (fresh && pc.coarse_dims.w == 0) imageStore(history, p, make_history(false, kNoTriangle, 0u, max(c + pc.params.z, 0.0), pc.params.w));
+      if (fresh && pc.coarse_dims.w == 0) imageStore(history, p, make_history(false, false, kNoTriangle, 0u, max(c + pc.params.z, 0.0), pc.params.w));
     }
   } else {
     float far_field = c + pc.coarse_beta.x;
     imageStore(fine, p, vec4(far_field));
-    imageStore(history, p, make_history(false, kNoTriangle, 0u, far_field, pc.params.w));
+    imageStore(history, p, make_history(false, false, kNoTriangle, 0u, far_field, pc.params.w));
   }
 }
 

@@ -7,24 +7,31 @@
 // SDF's, f_t = min(alpha * f_{t-1} + (1 - alpha) * c_t, r_t), so that a
 // surface that moved away is forgotten, slowly. Here each texel keeps the
 // triangle instead (the nearest any of its traces hit, fine_history.glsl.h)
-// and measures it again every trace, in this frame's shape and place:
-//   f_t = min(c_t + bias, distance to the kept triangle, r_t).
+// and measures it again every trace, in this frame's shape and place, with
+// its six neighbours' kept triangles:
+//   f_t = min(c_t + bias, distances to the kept triangles, r_t).
 // Every term is an upper bound of the texel's distance in this frame, so a
-// surface that moved away leaves nothing stale behind, and a deforming mesh's
-// texels carry their nearest surface from frame to frame without a traversal
-// (a ray costs about as much however short; a distance to one triangle next
-// to nothing), which lets such meshes trace fewer rays a frame. The kept
-// triangle gives no vote on the sign: which side of it the texel is on says
-// nothing of the inside unless no other surface lies between them, and only
-// a ray can tell that.
+// surface that moved away leaves nothing stale behind; the neighbours'
+// triangles spread each surface found over the band as a jump flood
+// spreads seeds, and a deforming mesh's texels carry their nearest surface
+// from frame to frame without a traversal (a ray costs about as much
+// however short; a distance to one triangle next to nothing), so such
+// meshes trace one ray a texel and frame. Kept triangles give no vote on
+// the sign: which side of one the texel is on says nothing of the inside
+// unless no other surface lies between them, and only a ray can tell that.
 // The texel is inside (negative) where the generalized winding number of the
 // meshes' volumes says so (winding_number.glsl.h): it holds on cracked,
 // overlapping and inside-out parts, and it depends on the geometry alone, so
-// a moved object leaves no inside behind. Where every ray that met a volume
-// met it from the same side (its back faces: inside; front faces: outside;
-// an inside-out piece's the other way round), the winding number can only
-// agree, and that vote is taken as it is: summing solid angles costs as much
-// as all the rays, and only texels near overlapping or cracked parts need it.
+// a moved object leaves no inside behind. Summing solid angles costs as much
+// as all the rays, so it is taken only where the rays leave the sign in
+// doubt. Where every ray that met a volume met it from the same side (its
+// back faces: inside; front faces: outside; an inside-out piece's the other
+// way round), the winding number can only agree, and that vote is taken,
+// unless it contradicts the sign the texel's last trace found (its history):
+// then the surface may have crossed the texel, or one ray may have slipped
+// through a crack, and the winding number decides. A texel that was inside
+// and whose rays met no volume is decided by it too. With one ray a frame,
+// a texel's votes so add up over frames while its surface stays where it is.
 // Sheets have no inside, and a closed piece thinner than a voxel has no
 // texel inside it, so marches through it would never see a negative value
 // (its shadow would be half lit). Such thin pieces are kept apart: the
@@ -95,9 +102,26 @@ void main() {
   hits = vec2(0.0);
   nearest_triangle = kNoTriangle, nearest_instance = 0u;
   uint kept, kept_instance;
-  if (history_kept_triangle(previous, kept, kept_instance) && is_triangle_of(kept, kept_instance)) {
+  bool known = history_kept_triangle(previous, kept, kept_instance) && is_triangle_of(kept, kept_instance);
+  if (known) {
     float distance = distance_to_hit(world, kept, kept_instance);
     if (distance < pc.params.w) take_hit(kept, kept_instance, distance, false, false);
+  }
+  // The six neighbours' kept triangles too: a nearest surface one texel
+  // found spreads to the others, one texel a trace, as in a jump flood.
+  // (A neighbour may be written by this pass as it is read: any triangle
+  // of its instance's mesh is a surface, and so an upper bound.)
+  if (!first_frame) {
+    for (int k = 0; k < 6; ++k) {
+      ivec3 q = p;
+      q[k >> 1] += (k & 1) == 0 ? -1 : 1;
+      uint triangle, instance;
+      if (all(greaterThanEqual(q, ivec3(0))) && all(lessThan(q, pc.fine_dims.xyz)) &&
+          history_kept_triangle(imageLoad(history, q), triangle, instance) && is_triangle_of(triangle, instance)) {
+        float distance = distance_to_hit(world, triangle, instance);
+        if (distance < pc.params.w) take_hit(triangle, instance, distance, false, false);
+      }
+    }
   }
 
   const int rays = pc.fine_dims.w;
@@ -115,13 +139,15 @@ void main() {
     if (t < pc.params.w) take_hit(triangle, instance, min(t, distance_to_hit(world, triangle, instance)), true, front);
   }
 
-  bool unanimous = hits.x == 0.0 || hits.y == 0.0;
-  bool inside = unanimous ? hits.y > 0.0 : inside_scene(world);
+  bool unanimous = hits.x == 0.0 || hits.y == 0.0, voted_inside = hits.y > 0.0;
+  bool was_inside = history_inside(previous);
+  bool settled = unanimous && (!known || (hits == vec2(0.0) ? !was_inside : voted_inside == was_inside));
+  bool inside = settled ? voted_inside : inside_scene(world);
   // (a quarter voxel closer to a surface, or to a thin piece's slab)
   bool improving = first_frame || min(nearest - previous.z, nearest_slab - previous.w) < -0.25 * pc.fine_grid.w;
   if (improving && !first_frame && still) atomicAdd(improved, 1u);
   float f = min(target, nearest);
   float g = min(alpha * previous.w + (1.0 - alpha) * pc.params.w, nearest_slab);
-  imageStore(history, p, make_history(improving, nearest_triangle, nearest_instance, f, g));
+  imageStore(history, p, make_history(improving, inside, nearest_triangle, nearest_instance, f, g));
   imageStore(fine, p, vec4(min(inside ? -f : f, g)));
 }
