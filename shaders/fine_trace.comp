@@ -85,6 +85,12 @@ void take_hit(uint triangle, uint instance, float distance, bool by_ray, bool fr
     hits += front != faces_in(triangle) ? vec2(1.0, 0.0) : vec2(0.0, 1.0);
 }
 
+// A kept triangle (the texel's own or a neighbour's), measured in this frame's shape.
+void take_kept(vec3 world, uint triangle, uint instance) {
+  float distance = distance_to_hit(world, triangle, instance);
+  if (distance < pc.params.w) take_hit(triangle, instance, distance, false, false);
+}
+
 void main() {
   uint item = gl_GlobalInvocationID.x;
   if (item >= trace_count) return;
@@ -103,10 +109,7 @@ void main() {
   nearest_triangle = kNoTriangle, nearest_instance = 0u;
   uint kept, kept_instance;
   bool known = history_kept_triangle(previous, kept, kept_instance) && is_triangle_of(kept, kept_instance);
-  if (known) {
-    float distance = distance_to_hit(world, kept, kept_instance);
-    if (distance < pc.params.w) take_hit(kept, kept_instance, distance, false, false);
-  }
+  if (known) take_kept(world, kept, kept_instance);
   // Where the geometry changes from update to update (not a still field),
   // the six neighbours' kept triangles too: a nearest surface one texel
   // found spreads to the others, one texel a trace, as in a jump flood.
@@ -131,8 +134,7 @@ void main() {
       for (int i = 0; i < count; ++i) seen = seen || measured[i] == uvec2(triangle, instance);
       if (seen || !is_triangle_of(triangle, instance)) continue;
       measured[count++] = uvec2(triangle, instance);
-      float distance = distance_to_hit(world, triangle, instance);
-      if (distance < pc.params.w) take_hit(triangle, instance, distance, false, false);
+      take_kept(world, triangle, instance);
     }
   }
 
