@@ -39,10 +39,16 @@ void FineSdf::allocate(const GridSpec& grid) {
   const VkImageUsageFlags usage = VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
   distance_ = vk::Image(context_, grid.dims, VK_FORMAT_R32_SFLOAT, usage);
   history_ = vk::Image(context_, grid.dims, VK_FORMAT_R32G32B32A32_SFLOAT, usage);
-  trace_list_ = vk::Buffer(context_, (grid.voxel_count() + 1) * sizeof(uint32_t),
+  trace_list_ = vk::Buffer(context_, (grid.voxel_count() + 2) * sizeof(uint32_t),  // (two counts, then the texels)
                            VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT |
                                VK_BUFFER_USAGE_TRANSFER_SRC_BIT,
                            vk::Buffer::Access::DeviceOnly);
+  // Room for one texel of the grid in eight doubted (fine_signs.comp):
+  // beyond it the trace settles them itself.
+  doubts_ = vk::Buffer(context_, (4 + grid.voxel_count() / 8 + kDoubtRoom) * sizeof(uint32_t),
+                       VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT |
+                           VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                       vk::Buffer::Access::DeviceOnly);
   dispatch_ = vk::Buffer(context_, 8 * sizeof(uint32_t),
                          VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT,
                          vk::Buffer::Access::DeviceOnly);
@@ -64,6 +70,7 @@ void FineSdf::release() {
   history_ = {};
   trace_list_ = {};
   dispatch_ = {};
+  doubts_ = {};
   brick_state_ = {};
   near_bricks_ = {};
   grid_ = {};
@@ -86,7 +93,7 @@ void FineSdf::update(const GpuScene::RayTargets& rays, const CoarseSdf& coarse, 
     timer_.begin(cmd);
     pass_->record(cmd, rays,
                   {coarse.grid(), coarse.distance(), coarse.beta_world(), grid_, distance_, history_, trace_list_, dispatch_,
-                   brick_state_, near_bricks_},
+                   brick_state_, near_bricks_, doubts_},
                   settings, {frame_, frame_ == 0, changed}, &timer_);
     vk::memory_barrier(cmd, VK_ACCESS_SHADER_WRITE_BIT, VK_ACCESS_TRANSFER_READ_BIT,
                        VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT);

@@ -25,7 +25,11 @@ layout(local_size_x = 64) in;
 layout(binding = 0, r32f) uniform readonly image3D coarse;
 layout(binding = 1, r32f) uniform writeonly image3D fine;
 layout(binding = 2, rgba32f) uniform image3D history;  // see fine_trace.comp
-layout(std430, binding = 3) buffer TraceList { uint trace_count; uint trace_texels[]; };
+// Texels on their turn from the front, texels measured again off their
+// turn (remeasure_count of them) from the back: the trace runs each kind in
+// work groups of its own (on lavapipe a group's lanes all run a ray's
+// traversal where one of them casts one).
+layout(std430, binding = 3) buffer TraceList { uint trace_count; uint remeasure_count; uint trace_texels[]; };
 layout(std430, binding = 4) readonly buffer BrickState { uvec2 bricks[]; };  // see fine_bricks_near.comp
 layout(std430, binding = 5) readonly buffer NearBricks { uvec4 classify_groups; uint near_bricks[]; };
 layout(push_constant) uniform Push { FinePush pc; };
@@ -68,9 +72,16 @@ void classify(ivec3 p, bool fresh) {
     bool focused = pc.coarse_beta.y != 0.0;
     bool in_focus = all(greaterThanEqual(p, unpack_seed(pc.schedule.z))) && all(lessThanEqual(p, unpack_seed(pc.schedule.w)));
     bool my_turn = (turn + pc.schedule.y) % pc.schedule.x == 0u && (!focused || in_focus);
-    if (pc.coarse_beta.z != 0.0 && !fresh && my_turn) my_turn = history_improving(imageLoad(history, p));
-    if (fresh || my_turn) {
-      uint slot = atomicAdd(trace_count, 1u);
+    bool still = pc.coarse_beta.z != 0.0;
+    if (still && !fresh && my_turn) my_turn = history_improving(imageLoad(history, p));
+    // In a field whose geometry changes between updates, every band texel
+    // (in the focus) is listed every update: off its turn it casts no ray,
+    // but measures its kept nearest triangles again in the new shape
+    // (fine_trace.comp). Left as they were, a deforming mesh's texels off
+    // their turn held the distances of up to K - 1 updates ago.
+    bool remeasured = !still && !fresh && !my_turn && (!focused || in_focus);
+    if (fresh || my_turn || remeasured) {
+      uint slot = remeasured ? uint(trace_texels.length()) - 1u - atomicAdd(remeasure_count, 1u) : atomicAdd(trace_count, 1u);
       trace_texels[slot] = pack_seed(p);
       // (the trace reads history after a first frame: it starts here from
       // the upper bound a first frame's trace starts from)

@@ -181,6 +181,19 @@ float distance_to_hit(vec3 p, uint triangle, uint instance) {
   return point_triangle_distance(p, a, b, c);
 }
 
+// Which side of a hit triangle's plane p lies on, in world space: 1 behind
+// it (the side its piece's inside is on; faces_in turns that round), -1 in
+// front, 0 for a triangle without area.
+int side_of_hit(vec3 p, uint triangle, uint instance) {
+  mat4 m = instances[instance].object_to_world;
+  vec3 a = (m * vec4(triangle_corners[3u * triangle].xyz, 1.0)).xyz;
+  vec3 b = (m * vec4(triangle_corners[3u * triangle + 1u].xyz, 1.0)).xyz;
+  vec3 c = (m * vec4(triangle_corners[3u * triangle + 2u].xyz, 1.0)).xyz;
+  vec3 n = cross(b - a, c - a);
+  if (dot(n, n) <= 0.0) return 0;
+  return (dot(p - a, n) < 0.0) != faces_in(triangle) ? 1 : -1;
+}
+
 // Whether triangle is one of the instance's mesh's (a triangle index kept
 // from an earlier frame may not be, once the scene's meshes changed).
 bool is_triangle_of(uint triangle, uint instance) {

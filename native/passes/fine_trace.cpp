@@ -3,11 +3,14 @@
 #include <cmath>
 #include <limits>
 #include <random>
+#include <utility>
 
 #include "shaders/shared.h"
 #include "spirv/spirv_fine_bricks_near_comp.h"
 #include "spirv/spirv_fine_classify_comp.h"
 #include "spirv/spirv_fine_dispatch_comp.h"
+#include "spirv/spirv_fine_remeasure_comp.h"
+#include "spirv/spirv_fine_signs_comp.h"
 #include "spirv/spirv_fine_trace_comp.h"
 #include "vk/context.h"
 #include "vk/timer.h"
@@ -18,6 +21,8 @@ namespace {
 
 constexpr VkDescriptorType kImage = VK_DESCRIPTOR_TYPE_STORAGE_IMAGE;
 constexpr VkDescriptorType kBuffer = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+const std::vector<VkDescriptorType> kTraceBindings = {kBuffer, kBuffer, kBuffer, kBuffer, kImage, kImage,
+                                                      kImage,  kBuffer, kBuffer, kBuffer, kBuffer};
 
 // A uniformly random rotation per frame (Shoemake's quaternion), so every
 // frame casts a new stratified set of directions.
@@ -46,8 +51,10 @@ FineTracePass::FineTracePass(const vk::Context& context)
       classify_(context, RTSDF_SPIRV(spirv_fine_classify_comp), {kImage, kImage, kImage, kBuffer, kBuffer, kBuffer},
                 sizeof(gpu::FinePush)),
       prepare_dispatch_(context, RTSDF_SPIRV(spirv_fine_dispatch_comp), {kBuffer, kBuffer}, 0),
-      trace_(context, RTSDF_SPIRV(spirv_fine_trace_comp),
-             {kBuffer, kBuffer, kBuffer, kBuffer, kImage, kImage, kImage, kBuffer, kBuffer, kBuffer}, sizeof(gpu::FinePush)) {}
+      trace_(context, RTSDF_SPIRV(spirv_fine_trace_comp), kTraceBindings, sizeof(gpu::FinePush)),
+      remeasure_(context, RTSDF_SPIRV(spirv_fine_remeasure_comp), kTraceBindings, sizeof(gpu::FinePush)),
+      signs_(context, RTSDF_SPIRV(spirv_fine_signs_comp), {kBuffer, kBuffer, kBuffer, kBuffer, kImage, kImage, kBuffer, kBuffer},
+             sizeof(gpu::FinePush)) {}
 
 void FineTracePass::record(VkCommandBuffer cmd, const GpuScene::RayTargets& scene, const FineTraceFields& fields,
                            const FineTraceSettings& settings, const FineTraceTurn& turn, vk::GpuTimer* timer) const {
@@ -95,7 +102,9 @@ void FineTracePass::record(VkCommandBuffer cmd, const GpuScene::RayTargets& scen
     push.coarse_beta.y = 1.0f;
   }
 
-  vkCmdFillBuffer(cmd, trace_list.handle(), 0, sizeof(uint32_t), 0u);
+  vkCmdFillBuffer(cmd, trace_list.handle(), 0, 2 * sizeof(uint32_t), 0u);
+  const uint32_t no_doubts[4] = {0u, 0u, 1u, 1u};  // (a count, then a dispatch of 0 x 1 x 1 groups)
+  vkCmdUpdateBuffer(cmd, fields.doubts.handle(), 0, sizeof no_doubts, no_doubts);
   // The bricks near the band, listed, then a work group per listed brick
   // classifies its texels: lavapipe spends as long on an invocation that
   // returns at once as on a few loads, and most of a grid is far from its
@@ -127,17 +136,33 @@ void FineTracePass::record(VkCommandBuffer cmd, const GpuScene::RayTargets& scen
   compute_barrier(cmd, VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT | VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
                   VK_ACCESS_INDIRECT_COMMAND_READ_BIT | VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
 
-  trace_.bind(cmd);
-  trace_.push_descriptors(cmd, {vk::Resource::storage_buffer(scene.top_nodes),
-                                vk::Resource::storage_buffer(scene.instances),
+  // The texels on their turn, then those measured again off it: each texel
+  // is listed once, so the two write apart (their reads of neighbours'
+  // history are the same benign race as within one dispatch).
+  const std::pair<const vk::Pipeline*, VkDeviceSize> dispatches[] = {{&trace_, 0}, {&remeasure_, 5 * sizeof(uint32_t)}};
+  for (const auto& [pipeline, offset] : dispatches) {
+    pipeline->bind(cmd);
+    pipeline->push_descriptors(cmd, {vk::Resource::storage_buffer(scene.top_nodes),
+                                     vk::Resource::storage_buffer(scene.instances),
+                                     vk::Resource::storage_buffer(scene.bottom_nodes),
+                                     vk::Resource::storage_buffer(scene.triangles), vk::Resource::storage_image(coarse),
+                                     vk::Resource::storage_image(fine), vk::Resource::storage_image(history),
+                                     vk::Resource::storage_buffer(trace_list),
+                                     vk::Resource::storage_buffer(scene.winding_dipoles),
+                                     vk::Resource::storage_buffer(dispatch), vk::Resource::storage_buffer(fields.doubts)});
+    pipeline->push_constants(cmd, push);
+    vkCmdDispatchIndirect(cmd, dispatch.handle(), offset);
+  }
+  compute_barrier(cmd, VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT | VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                  VK_ACCESS_INDIRECT_COMMAND_READ_BIT | VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
+  signs_.bind(cmd);
+  signs_.push_descriptors(cmd, {vk::Resource::storage_buffer(scene.top_nodes), vk::Resource::storage_buffer(scene.instances),
                                 vk::Resource::storage_buffer(scene.bottom_nodes),
-                                vk::Resource::storage_buffer(scene.triangles), vk::Resource::storage_image(coarse),
-                                vk::Resource::storage_image(fine), vk::Resource::storage_image(history),
-                                vk::Resource::storage_buffer(trace_list),
-                                vk::Resource::storage_buffer(scene.winding_dipoles),
-                                vk::Resource::storage_buffer(dispatch)});
-  trace_.push_constants(cmd, push);
-  vkCmdDispatchIndirect(cmd, dispatch.handle(), 0);
+                                vk::Resource::storage_buffer(scene.triangles), vk::Resource::storage_image(fine),
+                                vk::Resource::storage_image(history), vk::Resource::storage_buffer(fields.doubts),
+                                vk::Resource::storage_buffer(scene.winding_dipoles)});
+  signs_.push_constants(cmd, push);
+  vkCmdDispatchIndirect(cmd, fields.doubts.handle(), sizeof(uint32_t));
   if (timer) timer->mark(cmd, "fine trace");
 }
 

@@ -49,6 +49,7 @@ struct FineTraceFields {
   const vk::Buffer& dispatch;    // the trace's indirect dispatch arguments, then the texels traced and improved
   const vk::Buffer& brick_state;  // two words per brick (bricks_of the fine grid): see fine_bricks_near.comp
   const vk::Buffer& near_bricks;  // the classify's indirect dispatch (4 words), then the near bricks' indices
+  const vk::Buffer& doubts;  // a count and the sign step's indirect dispatch (4 words), then the doubted texels
 };
 
 // Which update this is: `frame` picks the ray set and the interleave turn;
@@ -72,7 +73,9 @@ class FineTracePass {
   vk::Pipeline bricks_near_;
   vk::Pipeline classify_;
   vk::Pipeline prepare_dispatch_;
-  vk::Pipeline trace_;
+  vk::Pipeline trace_;      // the texels on their turn: rays and kept triangles
+  vk::Pipeline remeasure_;  // the texels off their turn in a changing field: kept triangles alone
+  vk::Pipeline signs_;      // the doubted signs (shaders/fine_signs.comp)
 };
 
 }  // namespace rtsdf
