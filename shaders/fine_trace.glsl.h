@@ -84,6 +84,7 @@ float slab_half_thickness(float thickness) { return (thickness > 0.0 ? 0.5 : 1.0
 float nearest, nearest_slab;
 vec2 hits;
 uint nearest_triangle, nearest_instance;
+int nearest_side;  // (of the nearest kept triangle's plane, see distance_to_hit)
 
 // A triangle at distance from the texel; by_ray: a ray met it (from the front or not).
 void take_hit(uint triangle, uint instance, float distance, bool by_ray, bool front) {
@@ -98,7 +99,9 @@ void take_hit(uint triangle, uint instance, float distance, bool by_ray, bool fr
 
 // A kept triangle (the texel's own or a neighbour's), measured in this frame's shape.
 void take_kept(vec3 world, uint triangle, uint instance) {
-  float distance = distance_to_hit(world, triangle, instance);
+  int side;
+  float distance = distance_to_hit(world, triangle, instance, side);
+  if (distance < min(nearest, pc.params.w)) nearest_side = side;
   if (distance < pc.params.w) take_hit(triangle, instance, distance, false, false);
 }
 
@@ -127,7 +130,7 @@ void main() {
 
   nearest = pc.params.w, nearest_slab = pc.params.w;
   hits = vec2(0.0);
-  nearest_triangle = kNoTriangle, nearest_instance = 0u;
+  nearest_triangle = kNoTriangle, nearest_instance = 0u, nearest_side = 0;
   uint kept, kept_instance;
   bool known = history_kept_triangle(previous, kept, kept_instance) && is_triangle_of(kept, kept_instance);
   if (known) take_kept(world, kept, kept_instance);
@@ -183,9 +186,9 @@ void main() {
   // its nearest kept triangle (of a volume) says otherwise: the surface may
   // have crossed it (or the plane's side is wrong there, past an edge).
   if (!on_turn) {
-    bool volume = nearest_triangle != kNoTriangle && piece_thickness(nearest_triangle, nearest_instance) >= pc.fine_grid.w;
-    int side = volume ? side_of_hit(world, nearest_triangle, nearest_instance) : 0;
-    settled = side == 0 || (side > 0) == was_inside;
+    // (a remeasured texel's nearest is a kept triangle: nearest_side is its)
+    bool volume = nearest_side != 0 && piece_thickness(nearest_triangle, nearest_instance) >= pc.fine_grid.w;
+    settled = !volume || (nearest_side > 0) == was_inside;
     voted_inside = was_inside;
   }
   // A doubted sign is the winding number's, taken by the sign step (here

@@ -172,26 +172,23 @@ float piece_thickness(uint triangle, uint instance) {
 // the triangle turned against its neighbours): the second corner's w is -1 then.
 bool faces_in(uint triangle) { return triangle_corners[3u * triangle + 1u].w < 0.0; }
 
-// World-space distance from p to a triangle the ray tracer hit.
-float distance_to_hit(vec3 p, uint triangle, uint instance) {
-  mat4 m = instances[instance].object_to_world;
-  vec3 a = (m * vec4(triangle_corners[3u * triangle].xyz, 1.0)).xyz;
-  vec3 b = (m * vec4(triangle_corners[3u * triangle + 1u].xyz, 1.0)).xyz;
-  vec3 c = (m * vec4(triangle_corners[3u * triangle + 2u].xyz, 1.0)).xyz;
-  return point_triangle_distance(p, a, b, c);
-}
-
-// Which side of a hit triangle's plane p lies on, in world space: 1 behind
-// it (the side its piece's inside is on; faces_in turns that round), -1 in
-// front, 0 for a triangle without area.
-int side_of_hit(vec3 p, uint triangle, uint instance) {
+// World-space distance from p to a triangle the ray tracer hit, and which
+// side of its plane p lies on (`side`): 1 behind it (the side its piece's
+// inside is on; faces_in turns that round), -1 in front, 0 for a triangle
+// without area.
+float distance_to_hit(vec3 p, uint triangle, uint instance, out int side) {
   mat4 m = instances[instance].object_to_world;
   vec3 a = (m * vec4(triangle_corners[3u * triangle].xyz, 1.0)).xyz;
   vec3 b = (m * vec4(triangle_corners[3u * triangle + 1u].xyz, 1.0)).xyz;
   vec3 c = (m * vec4(triangle_corners[3u * triangle + 2u].xyz, 1.0)).xyz;
   vec3 n = cross(b - a, c - a);
-  if (dot(n, n) <= 0.0) return 0;
-  return (dot(p - a, n) < 0.0) != faces_in(triangle) ? 1 : -1;
+  side = dot(n, n) <= 0.0 ? 0 : (dot(p - a, n) < 0.0) != faces_in(triangle) ? 1 : -1;
+  return point_triangle_distance(p, a, b, c);
+}
+
+float distance_to_hit(vec3 p, uint triangle, uint instance) {
+  int side;
+  return distance_to_hit(p, triangle, instance, side);
 }
 
 // Whether triangle is one of the instance's mesh's (a triangle index kept
