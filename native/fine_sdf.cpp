@@ -43,9 +43,9 @@ void FineSdf::allocate(const GridSpec& grid) {
                            VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT |
                                VK_BUFFER_USAGE_TRANSFER_SRC_BIT,
                            vk::Buffer::Access::DeviceOnly);
-  // Room for one texel of the grid in eight doubted (fine_signs.comp):
+  // Room for one texel of the grid in four doubted (fine_signs.comp):
   // beyond it the trace settles them itself.
-  doubts_ = vk::Buffer(context_, (4 + grid.voxel_count() / 8 + kDoubtRoom) * sizeof(uint32_t),
+  doubts_ = vk::Buffer(context_, (4 + grid.voxel_count() / 4 + kDoubtRoom) * sizeof(uint32_t),
                        VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT |
                            VK_BUFFER_USAGE_TRANSFER_DST_BIT,
                        vk::Buffer::Access::DeviceOnly);

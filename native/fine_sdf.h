@@ -49,10 +49,8 @@ class FineSdf {
   // on a first update, and in other fields): how far from converged.
   uint32_t read_improved_texels() const { return read_count(1); }
   // Device memory of the grid's images and lists.
-  size_t bytes() const {
-    return grid_.voxel_count() * kBytesPerTexel + brick_state_.size() + near_bricks_.size() + doubts_.size();
-  }
-  static constexpr size_t kBytesPerTexel = 4 + 16 + 4;  // distance, hit counts, trace list
+  size_t bytes() const { return grid_.voxel_count() * kBytesPerTexel + brick_state_.size() + near_bricks_.size(); }
+  static constexpr size_t kBytesPerTexel = 4 + 16 + 4 + 1;  // distance, history, trace list, doubted signs (1 in 4)
 
  private:
   void allocate(const GridSpec& grid);
@@ -68,7 +66,7 @@ class FineSdf {
   vk::Buffer dispatch_;
   vk::Buffer brick_state_;  // per brick of the grid, see fine_bricks_near.comp
   vk::Buffer doubts_;  // the texels whose sign the trace doubted (shaders/fine_signs.comp)
-  static constexpr size_t kDoubtRoom = 1024;  // (entries beyond one texel in eight: small grids)
+  static constexpr size_t kDoubtRoom = 1024;  // (entries beyond one texel in four: small grids)
   vk::Buffer near_bricks_;  // the bricks near the band, and the classify's dispatch
   vk::Buffer traced_;  // host-visible copy of the last update's trace count
   uint32_t frame_ = 0;

@@ -24,7 +24,7 @@
 layout(local_size_x = 64) in;
 layout(binding = 0, r32f) uniform readonly image3D coarse;
 layout(binding = 1, r32f) uniform writeonly image3D fine;
-layout(binding = 2, rgba32f) uniform image3D history;  // see fine_trace.comp
+layout(binding = 2, rgba32f) uniform image3D history;  // see fine_history.glsl.h
 // Texels on their turn from the front, texels measured again off their
 // turn (remeasure_count of them) from the back: the trace runs each kind in
 // work groups of its own (on lavapipe a group's lanes all run a ray's
@@ -77,7 +77,7 @@ void classify(ivec3 p, bool fresh) {
     // In a field whose geometry changes between updates, every band texel
     // (in the focus) is listed every update: off its turn it casts no ray,
     // but measures its kept nearest triangles again in the new shape
-    // (fine_trace.comp). Left as they were, a deforming mesh's texels off
+    // (fine_remeasure.comp). Left as they were, a deforming mesh's texels off
     // their turn held the distances of up to K - 1 updates ago.
     bool remeasured = !still && !fresh && !my_turn && (!focused || in_focus);
     if (fresh || my_turn || remeasured) {
