@@ -1,5 +1,6 @@
-// Fine SDF, step 3 (fine_trace.comp, and fine_remeasure.comp with
-// RTSDF_REMEASURE defined): each listed texel casts rays_per_texel rays (a spherical
+// Fine SDF, step 3 (fine_trace.comp; fine_remeasure.comp, with
+// RTSDF_REMEASURE defined, for the texels off their turn in a field whose
+// geometry changes, which cast no ray): each listed texel casts rays_per_texel rays (a spherical
 // Fibonacci set turned by a new rotation every frame) and measures the
 // distance from its centre to every triangle they hit. The paper keeps the
 // smallest of them over frames as a value that decays towards the coarse
@@ -31,6 +32,9 @@
 // through a crack, and the winding number decides. A texel that was inside
 // and whose rays met no volume is decided by it too. With one ray a frame,
 // a texel's votes so add up over frames while its surface stays where it is.
+// (A texel off its turn has no votes: it doubts its sign where it changed
+// sides of its nearest kept triangle's plane, below. Doubted texels are
+// listed, and fine_signs.comp takes their winding numbers.)
 // Sheets have no inside, and a closed piece thinner than a voxel has no
 // texel inside it, so marches through it would never see a negative value
 // (its shadow would be half lit). Such thin pieces are kept apart: the
