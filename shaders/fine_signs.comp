@@ -1,7 +1,7 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
 // Fine SDF, step 4: the texels whose sign the trace doubted
-// (fine_trace.comp: its rays' votes or its kept triangle's side contradict
+// (fine_trace.glsl.h: its rays' votes or its kept triangle's side contradict
 // the sign it found last) take the generalized winding number's
 // (winding_number.glsl.h). The trace lists them rather than summing there:
 // on lavapipe a call site's code runs in every lane of a SIMD group one of

@@ -88,11 +88,12 @@ float slab_half_thickness(float thickness) { return (thickness > 0.0 ? 0.5 : 1.0
 float nearest, nearest_slab;
 vec2 hits;
 uint nearest_triangle, nearest_instance;
-int nearest_side;  // (of the nearest kept triangle's plane, see distance_to_hit)
+int nearest_side;  // which side of the nearest triangle's plane the texel is on (distance_to_hit)
 
-// A triangle at distance from the texel; by_ray: a ray met it (from the front or not).
-void take_hit(uint triangle, uint instance, float distance, bool by_ray, bool front) {
-  if (distance < nearest) nearest = distance, nearest_triangle = triangle, nearest_instance = instance;
+// A triangle at distance from the texel, the texel on `side` of its plane;
+// by_ray: a ray met it (from the front or not).
+void take_hit(uint triangle, uint instance, float distance, int side, bool by_ray, bool front) {
+  if (distance < nearest) nearest = distance, nearest_triangle = triangle, nearest_instance = instance, nearest_side = side;
   if (!by_ray) return;
   float thickness = piece_thickness(triangle, instance);
   if (thickness < pc.fine_grid.w)
@@ -105,8 +106,7 @@ void take_hit(uint triangle, uint instance, float distance, bool by_ray, bool fr
 void take_kept(vec3 world, uint triangle, uint instance) {
   int side;
   float distance = distance_to_hit(world, triangle, instance, side);
-  if (distance < min(nearest, pc.params.w)) nearest_side = side;
-  if (distance < pc.params.w) take_hit(triangle, instance, distance, false, false);
+  if (distance < pc.params.w) take_hit(triangle, instance, distance, side, false, false);
 }
 
 // Lists texel p for the sign step (fine_signs.comp), counting its work
@@ -179,7 +179,8 @@ void main() {
     float t = trace_scene(world, dir, pc.params.w, false, front, triangle, instance);
     // The exact distance to the triangle hit is still an upper bound of the
     // texel's distance, and no larger than t: minima converge much faster.
-    if (t < pc.params.w) take_hit(triangle, instance, min(t, distance_to_hit(world, triangle, instance)), true, front);
+    int side;
+    if (t < pc.params.w) take_hit(triangle, instance, min(t, distance_to_hit(world, triangle, instance, side)), side, true, front);
   }
 #endif
 
@@ -190,7 +191,6 @@ void main() {
   // its nearest kept triangle (of a volume) says otherwise: the surface may
   // have crossed it (or the plane's side is wrong there, past an edge).
   if (!on_turn) {
-    // (a remeasured texel's nearest is a kept triangle: nearest_side is its)
     bool volume = nearest_side != 0 && piece_thickness(nearest_triangle, nearest_instance) >= pc.fine_grid.w;
     settled = !volume || (nearest_side > 0) == was_inside;
     voted_inside = was_inside;

@@ -45,8 +45,9 @@ struct FineTraceFields {
   const GridSpec& fine_grid;
   const vk::Image& fine;
   const vk::Image& history;
-  const vk::Buffer& trace_list;  // a count and one packed texel per fine voxel
-  const vk::Buffer& dispatch;    // the trace's indirect dispatch arguments, then the texels traced and improved
+  const vk::Buffer& trace_list;  // two counts (on turn, off it) and one packed texel per fine voxel
+  const vk::Buffer& dispatch;    // the trace's indirect dispatch (x, y, z, texels traced), texels improved,
+                                 // then the remeasure's indirect dispatch
   const vk::Buffer& brick_state;  // two words per brick (bricks_of the fine grid): see fine_bricks_near.comp
   const vk::Buffer& near_bricks;  // the classify's indirect dispatch (4 words), then the near bricks' indices
   const vk::Buffer& doubts;  // a count and the sign step's indirect dispatch (4 words), then the doubted texels
