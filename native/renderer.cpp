@@ -38,6 +38,10 @@ constexpr float kMovedShadowSamples = 1.0f;  // (a moved shadow: mostly from thi
 // 1.32x, cad_on_ground 1.21x) and flickered more.
 constexpr float kMovedShadowClip = 0.75f;
 constexpr float kReprojectedDepthTolerance = 0.01f;
+// Up to this many instances seen by the camera, a playback step's region on
+// screen takes each one's box apart (screen_region.h); beyond, one box
+// holding them all.
+constexpr size_t kSeparatelyBoundedInstances = 256;
 
 // The sub-pixel jitter's reach in whole pixels: the pixel filter's jitter
 // reaches filter_width pixels either way.
@@ -458,22 +462,28 @@ void Renderer::begin(GpuScene& scene, const Camera& camera, const std::vector<Li
     // What moved on screen, casting shadows or not (a silhouette's history may hold it).
     if (last_changes_->any_moved) put(last_changes_->moved, frame_data_.moved_lo, frame_data_.moved_hi);
   }
-  change_on_screen_ = PixelRect{};
+  const glm::ivec2 size(width, height);
+  change_on_screen_ = TileMask(size);
   if (has_history_ && camera_stayed_ && settings.changed_region_only) {  // (else no step is bounded by it)
-    const glm::ivec2 size(width, height);
     const GpuScene::Changes& pending = scene.pending_changes();
     const bool untold = !scene_changed && (pending.everything || pending.any || pending.any_moved ||
                                            drawn_transforms_ != transforms);  // (no box says where)
     // (the casters swapped: the shadows of those that left are in no box)
     const bool casters_swapped = scene_changed && last_changes_ && last_changes_->everything;
     if (untold || casters_swapped) {
-      change_on_screen_ = PixelRect::whole(size);
+      change_on_screen_ = TileMask::whole(size);
     } else if (frame_data_.changed_lo.w != 0.0f || frame_data_.moved_lo.w != 0.0f) {
       std::vector<uint32_t> seen;  // (no surface lies outside these)
       for (uint32_t i = 0; i < scene.instances().size(); ++i)
         if (scene.instances()[i].visible_to_camera) seen.push_back(i);
-      const Bounds visible = scene.scene().world_bounds(seen, scene.mesh_extents());
-      change_on_screen_ = change_on_screen(frame_data_, gpu_lights, visible, size, jitter_reach(settings.filter_width));
+      // Each one's box, or one box holding them all where they are many
+      // (each box is a pass over the tiles it reaches).
+      std::vector<Bounds> boxes;
+      if (seen.size() <= kSeparatelyBoundedInstances)
+        for (uint32_t i : seen) boxes.push_back(scene.scene().world_bounds({i}, scene.mesh_extents()));
+      else
+        boxes.push_back(scene.scene().world_bounds(seen, scene.mesh_extents()));
+      change_on_screen_ = change_on_screen(frame_data_, gpu_lights, boxes, size, jitter_reach(settings.filter_width));
     }
   }
   drawn_scene_id_ = scene.id();
@@ -621,16 +631,20 @@ void Renderer::add_frame() {
   // on to an offset the still frames did not take), and such a pixel is
   // shaded anew.
   const glm::ivec2 size(width_, height_);
-  const PixelRect drawn = keeps && centred && settings_.changed_region_only
-                              ? temporal_.keep_region(unsettled_.united(change_on_screen_))
-                              : PixelRect::whole(size);
-  stats_.drawn_share = double(drawn.size().x) * drawn.size().y / (double(width_) * height_);
+  TileMask kept_region = TileMask::whole(size);
+  if (keeps && centred && settings_.changed_region_only) {
+    TileMask unsettled = change_on_screen_;
+    unsettled.add(unsettled_.image_size() == size ? unsettled_ : TileMask::whole(size));
+    kept_region = temporal_.keep_region(unsettled);
+  }
+  const PixelRect drawn = kept_region.bounds();  // (the G-buffer's: nothing outside them reads it)
+  stats_.drawn_share = kept_region.share();
   context_.submit_and_wait([&](VkCommandBuffer cmd) {
     shading_timer_.begin(cmd);
     gbuffer_.record(cmd, *scene_, frame_buffer_, field_voxels_, instance_motions_, drawn);
     shading_timer_.mark(cmd, "gbuffer");
     if (keeps) {
-      temporal_.record_keep(cmd, gbuffer_, temporal_images, frame_buffer_, light_buffer_, temporal, drawn);
+      temporal_.record_keep(cmd, gbuffer_, temporal_images, frame_buffer_, light_buffer_, temporal, kept_region);
       compute_barrier(cmd);
       shading_timer_.mark(cmd, "keep");
     }
@@ -654,10 +668,12 @@ void Renderer::add_frame() {
   // once the frames since have drawn each pixel's full samples (a pixel
   // shaded anew from no history has them after history_samples frames).
   if (keeps)
-    unsettled_ = temporal_.unsettled_pixels().grown(1, size);  // (history is read a texel right and below too)
+    // (and the tiles left of and above them: history is read a texel right and below too)
+    unsettled_ = temporal_.unsettled_tiles().spread([](int x) { return glm::ivec2(x - 1, x); },
+                                                    [](int y) { return glm::ivec2(y - 1, y); });
   else if (frame_ == 0)
-    unsettled_ = PixelRect::whole(size);
-  if (frame_ + 1 >= temporal_push().history_samples) unsettled_ = PixelRect{};
+    unsettled_ = TileMask::whole(size);
+  if (frame_ + 1 >= temporal_push().history_samples) unsettled_ = TileMask(size);
   drawn_frame_ = frame_data_;
   timings_.shade_ms += ms_since(shading);
   for (const vk::GpuTimer::Span& span : shading_timer_.read()) {

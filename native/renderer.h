@@ -186,8 +186,9 @@ struct RenderStats {
   std::vector<FieldMemory> per_field;  // rtsdf: each mesh's field
   float resolution_scale = 1;   // rtsdf: below 1, resolutions lowered to fit field_budget_mb
   int skipped_degenerate = 0;   // rtsdf: instances a scale flattens to nothing, left out of the fields
-  // The share of the image the last frame drew (its G-buffer and temporal
-  // keep pass): below 1 in a playback step that drew its changed region alone.
+  // The share of the image the last frame drew (the tiles its temporal keep
+  // pass tested; its G-buffer drew the rectangle holding them): below 1 in a
+  // playback step that drew its changed region alone.
   double drawn_share = 0.0;
 };
 
@@ -364,8 +365,8 @@ class Renderer {
   // and the pixels of the accumulation that may not have settled (full
   // samples, as still as history was): those the last keep pass did not
   // keep, until the frames after it have drawn every pixel's samples.
-  PixelRect change_on_screen_;
-  PixelRect unsettled_;
+  TileMask change_on_screen_;
+  TileMask unsettled_;
 };
 
 }  // namespace rtsdf

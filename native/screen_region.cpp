@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <stdexcept>
 
 namespace rtsdf {
 
@@ -21,6 +22,157 @@ PixelRect PixelRect::grown(int pixels, glm::ivec2 size) const {
   if (is_empty()) return *this;
   return {glm::max(lo - pixels, glm::ivec2(0)), glm::min(hi + pixels, size)};
 }
+
+TileMask::TileMask(glm::ivec2 image_size)
+    : image_size_(glm::max(image_size, glm::ivec2(0))),
+      tiles_((image_size_ + int(gpu::kTemporalTile) - 1) / int(gpu::kTemporalTile)),
+      bits_(size_t(tiles_.x) * size_t(tiles_.y), 0) {}
+
+TileMask TileMask::whole(glm::ivec2 image_size) {
+  TileMask mask(image_size);
+  mask.add(PixelRect::whole(image_size));
+  return mask;
+}
+
+bool TileMask::holds(glm::ivec2 pixel) const {
+  if (glm::any(glm::lessThan(pixel, glm::ivec2(0))) || glm::any(glm::greaterThanEqual(pixel, image_size_))) return false;
+  return holds_tile(pixel / int(gpu::kTemporalTile));
+}
+
+double TileMask::share() const { return bits_.empty() ? 0.0 : double(marked_) / double(bits_.size()); }
+
+void TileMask::mark(glm::ivec2 tile) {
+  uint8_t& bit = bits_[index(tile)];
+  marked_ += bit == 0 ? 1 : 0;
+  bit = 1;
+}
+
+PixelRect TileMask::bounds() const {
+  glm::ivec2 lo(tiles_), hi(-1);
+  for (int y = 0; y < tiles_.y; ++y)
+    for (int x = 0; x < tiles_.x; ++x)
+      if (holds_tile({x, y})) lo = glm::min(lo, glm::ivec2(x, y)), hi = glm::max(hi, glm::ivec2(x, y));
+  if (hi.x < 0) return {};
+  const int tile = int(gpu::kTemporalTile);
+  return {lo * tile, glm::min((hi + 1) * tile, image_size_)};
+}
+
+std::vector<uint32_t> TileMask::indices() const {
+  std::vector<uint32_t> marked;
+  marked.reserve(marked_);
+  for (size_t i = 0; i < bits_.size(); ++i)
+    if (bits_[i]) marked.push_back(uint32_t(i));
+  return marked;
+}
+
+std::vector<PixelRect> TileMask::outside() const {
+  const int tile = int(gpu::kTemporalTile);
+  std::vector<PixelRect> runs;
+  for (int y = 0; y < tiles_.y; ++y)
+    for (int x = 0; x < tiles_.x;) {
+      if (holds_tile({x, y})) { ++x; continue; }
+      const int first = x;
+      while (x < tiles_.x && !holds_tile({x, y})) ++x;
+      const PixelRect run{glm::ivec2(first, y) * tile, glm::min(glm::ivec2(x, y + 1) * tile, image_size_)};
+      // (a run under one of the row above, the same columns: one rectangle)
+      if (!runs.empty() && runs.back().lo.x == run.lo.x && runs.back().hi.x == run.hi.x && runs.back().hi.y == run.lo.y)
+        runs.back().hi.y = run.hi.y;
+      else
+        runs.push_back(run);
+    }
+  return runs;
+}
+
+void TileMask::add(const PixelRect& rect) {
+  const PixelRect cut = rect.intersected(PixelRect::whole(image_size_));
+  if (cut.is_empty()) return;
+  const int tile = int(gpu::kTemporalTile);
+  for (int y = cut.lo.y / tile; y <= (cut.hi.y - 1) / tile; ++y)
+    for (int x = cut.lo.x / tile; x <= (cut.hi.x - 1) / tile; ++x) mark({x, y});
+}
+
+TileMask TileMask::intersected(const TileMask& other) const {
+  if (other.tiles_ != tiles_) throw std::invalid_argument("TileMask: the masks are of images of other sizes");
+  TileMask both(image_size_);
+  for (size_t i = 0; i < bits_.size(); ++i)
+    if (bits_[i] && other.bits_[i]) both.mark({int(i % size_t(tiles_.x)), int(i / size_t(tiles_.x))});
+  return both;
+}
+
+void TileMask::add(const TileMask& other) {
+  if (other.tiles_ != tiles_) throw std::invalid_argument("TileMask: the masks are of images of other sizes");
+  for (size_t i = 0; i < bits_.size(); ++i)
+    if (other.bits_[i]) mark({int(i % size_t(tiles_.x)), int(i / size_t(tiles_.x))});
+}
+
+void TileMask::add_convex(const std::vector<glm::vec2>& hull, float margin, const PixelRect& within) {
+  if (hull.empty()) return;
+  // The axes that may part a tile from the polygon: the tiles' own, and
+  // each edge's normal (the separating axis theorem, for convex shapes).
+  std::vector<glm::vec2> axes;
+  for (size_t i = 0; i < hull.size() && hull.size() > 1; ++i) {
+    const glm::vec2 edge = hull[(i + 1) % hull.size()] - hull[i];
+    if (edge != glm::vec2(0.0f)) axes.push_back(glm::vec2(-edge.y, edge.x));
+  }
+  glm::vec2 lo = hull.front(), hi = hull.front();
+  for (const glm::vec2& p : hull) lo = glm::min(lo, p), hi = glm::max(hi, p);
+  const int tile = int(gpu::kTemporalTile);
+  PixelRect span{glm::ivec2(glm::floor(lo - margin)), glm::ivec2(glm::floor(hi + margin)) + 1};
+  span = span.intersected(within.grown(int(std::ceil(margin)), image_size_));
+  if (span.is_empty()) return;
+  for (int y = span.lo.y / tile; y <= (span.hi.y - 1) / tile; ++y)
+    for (int x = span.lo.x / tile; x <= (span.hi.x - 1) / tile; ++x) {
+      const glm::vec2 box_lo = glm::vec2(x, y) * float(tile) - margin, box_hi = glm::vec2(x + 1, y + 1) * float(tile) + margin;
+      const bool parted = std::any_of(axes.begin(), axes.end(), [&](glm::vec2 axis) {
+        float polygon_lo = std::numeric_limits<float>::max(), polygon_hi = std::numeric_limits<float>::lowest();
+        for (const glm::vec2& p : hull) polygon_lo = std::min(polygon_lo, glm::dot(axis, p)), polygon_hi = std::max(polygon_hi, glm::dot(axis, p));
+        const glm::vec2 centre = 0.5f * (box_lo + box_hi), half = 0.5f * (box_hi - box_lo);
+        const float box_centre = glm::dot(axis, centre), box_half = half.x * std::abs(axis.x) + half.y * std::abs(axis.y);
+        return box_centre + box_half < polygon_lo || box_centre - box_half > polygon_hi;
+      });
+      if (!parted) mark({x, y});  // (the tiles' own axes part nothing within `span`)
+    }
+}
+
+namespace {
+
+// Projections of `points` to pixel coordinates (pixel i spanning [i, i + 1));
+// false where a point lies at or behind the camera's plane (its hull may
+// then reach round any side of the screen) or too far out to place.
+bool project_points(const glm::mat4& world_to_clip, glm::ivec2 size, const std::vector<glm::vec3>& points,
+                    std::vector<glm::vec2>& pixels) {
+  pixels.clear();
+  for (const glm::vec3& p : points) {
+    const glm::vec4 clip = world_to_clip * glm::vec4(p, 1.0f);
+    if (!(clip.w > 1e-6f * std::max(std::abs(clip.x), std::abs(clip.y)) && clip.w > 0.0f)) return false;
+    const glm::vec2 pixel = (glm::vec2(clip) / clip.w + 1.0f) * 0.5f * glm::vec2(size);
+    if (!(std::abs(pixel.x) < 1e6f && std::abs(pixel.y) < 1e6f)) return false;
+    pixels.push_back(pixel);
+  }
+  return true;
+}
+
+// The convex hull of `points` in order round it (Andrew's monotone chain).
+std::vector<glm::vec2> convex_hull(std::vector<glm::vec2> points) {
+  std::sort(points.begin(), points.end(), [](glm::vec2 a, glm::vec2 b) { return a.x < b.x || (a.x == b.x && a.y < b.y); });
+  points.erase(std::unique(points.begin(), points.end()), points.end());
+  if (points.size() < 3) return points;
+  auto turn = [](glm::vec2 o, glm::vec2 a, glm::vec2 b) { return (a.x - o.x) * (b.y - o.y) - (a.y - o.y) * (b.x - o.x); };
+  std::vector<glm::vec2> hull(2 * points.size());
+  size_t k = 0;
+  for (size_t i = 0; i < points.size(); ++i) {  // (lower chain)
+    while (k >= 2 && turn(hull[k - 2], hull[k - 1], points[i]) <= 0.0f) --k;
+    hull[k++] = points[i];
+  }
+  for (size_t i = points.size() - 1, lower = k + 1; i-- > 0;) {  // (upper chain)
+    while (k >= lower && turn(hull[k - 2], hull[k - 1], points[i]) <= 0.0f) --k;
+    hull[k++] = points[i];
+  }
+  hull.resize(k - 1);
+  return hull;
+}
+
+}  // namespace
 
 PixelRect project_hull(const glm::mat4& world_to_clip, glm::ivec2 size, const std::vector<glm::vec3>& points) {
   const PixelRect whole = PixelRect::whole(size);
@@ -120,38 +272,59 @@ std::vector<glm::vec3> shadow_volume(const gpu::GpuLight& light, glm::vec3 lo, g
 
 }  // namespace
 
-PixelRect change_on_screen(const gpu::FrameData& frame, const std::vector<gpu::GpuLight>& lights,
-                           const Bounds& visible, glm::ivec2 size, float jitter_reach) {
+TileMask change_on_screen(const gpu::FrameData& frame, const std::vector<gpu::GpuLight>& lights,
+                          const std::vector<Bounds>& seen, glm::ivec2 size, float jitter_reach) {
   const glm::mat4& world_to_clip = frame.steady_world_to_clip;
-  PixelRect region;
-  if (frame.moved_lo.w != 0.0f)
-    region = region.united(project_hull(world_to_clip, size, corners(frame.moved_lo, frame.moved_hi)));
-  // The tests of contact and of light paths are of visible surface points:
-  // their volumes end at `visible` (the rectangle of a volume's box cut by
-  // it, within that of the volume).
-  auto seen_part = [&](const std::vector<glm::vec3>& volume) {
-    Bounds box{volume.front(), volume.front()};
-    for (const glm::vec3& p : volume) box = {glm::min(box.lo, p), glm::max(box.hi, p)};
-    const Bounds cut{glm::max(box.lo, visible.lo), glm::min(box.hi, visible.hi)};
-    if (cut.is_empty()) return PixelRect{};
-    return project_hull(world_to_clip, size, volume).intersected(project_hull(world_to_clip, size, corners(cut.lo, cut.hi)));
-  };
-  if (frame.changed_lo.w != 0.0f && !visible.is_empty()) {
-    const glm::vec3 lo(frame.changed_lo), hi(frame.changed_hi);
-    const float contact = gpu::kContactReach * glm::distance(lo, hi);
-    region = region.united(seen_part(corners(lo - contact, hi + contact)));
-    for (const gpu::GpuLight& light : lights) {
-      const std::vector<glm::vec3> volume = shadow_volume(light, lo, hi, visible);
-      if (volume.empty()) return PixelRect::whole(size);
-      region = region.united(seen_part(volume));
-    }
-  }
+  TileMask region(size);
   // The margin: a sample sees a point up to the jitter's reach from its
   // pixel's centre, both in history's frames and in this one; the test of a
   // silhouette's moved front grows the moved box by jitter_reach + 2 pixels;
-  // and a pixel's history is read from the texels right of and below it too.
-  const int reach = int(std::ceil(jitter_reach));
-  return region.grown(2 * reach + 4, size);
+  // a pixel's history is read from the texels right of and below it too;
+  // and a pixel for the rounding.
+  const float margin = float(2 * int(std::ceil(jitter_reach)) + 4 + 1);
+  std::vector<glm::vec2> pixels;
+  // The tiles of a convex volume within `within` (all of `within` where the
+  // volume reaches behind the camera).
+  auto volume_tiles = [&](const std::vector<glm::vec3>& volume, const PixelRect& within) {
+    TileMask tiles(size);
+    if (project_points(world_to_clip, size, volume, pixels))
+      tiles.add_convex(convex_hull(pixels), margin, within);
+    else
+      tiles.add(within.grown(int(margin), size));
+    return tiles;
+  };
+  const PixelRect whole = PixelRect::whole(size);
+  if (frame.moved_lo.w != 0.0f) region.add(volume_tiles(corners(frame.moved_lo, frame.moved_hi), whole));
+  Bounds visible = Bounds::empty();
+  for (const Bounds& box : seen)
+    if (!box.is_empty()) visible = visible.is_empty() ? box : Bounds{glm::min(visible.lo, box.lo), glm::max(visible.hi, box.hi)};
+  if (frame.changed_lo.w == 0.0f || visible.is_empty()) return region;
+  // The tests of contact and of light paths are of visible surface points,
+  // each inside the box of what it is on: a volume's tiles are those of its
+  // parts inside those boxes (each a box, the volume's box cut by one;
+  // within the volume's own outline). Seen from above, a box standing on a
+  // ground reaches across much of the ground behind it on screen, but
+  // meets the ground's own box only at its foot.
+  auto add_seen_parts = [&](const std::vector<glm::vec3>& volume) {
+    Bounds box{volume.front(), volume.front()};
+    for (const glm::vec3& p : volume) box = {glm::min(box.lo, p), glm::max(box.hi, p)};
+    TileMask parts(size);
+    for (const Bounds& surfaces : seen) {
+      const Bounds cut{glm::max(box.lo, surfaces.lo), glm::min(box.hi, surfaces.hi)};
+      if (!surfaces.is_empty() && !cut.is_empty()) parts.add(volume_tiles(corners(cut.lo, cut.hi), whole));
+    }
+    if (parts.is_empty()) return;
+    region.add(parts.intersected(volume_tiles(volume, parts.bounds())));
+  };
+  const glm::vec3 lo(frame.changed_lo), hi(frame.changed_hi);
+  const float contact = gpu::kContactReach * glm::distance(lo, hi);
+  add_seen_parts(corners(lo - contact, hi + contact));
+  for (const gpu::GpuLight& light : lights) {
+    const std::vector<glm::vec3> volume = shadow_volume(light, lo, hi, visible);
+    if (volume.empty()) return TileMask::whole(size);
+    add_seen_parts(volume);
+  }
+  return region;
 }
 
 }  // namespace rtsdf

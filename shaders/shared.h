@@ -189,7 +189,8 @@ struct TemporalPush {
   float depth_tolerance;       // relative depth a reprojected surface may differ by
   float jitter_reach;          // the sub-pixel jitter's reach (whole pixels)
   uint same_lighting;          // 1: the lights and the world are as history saw them (pixels may settle)
-  ivec2 keep_origin;           // the keep pass's first tile (it runs over a rectangle of tiles from there)
+  uint pad0;
+  uint pad1;
 };
 // The keep pass lists the tiles of kTemporalTile^2 pixels and the groups of
 // kQuadGroup^2 quads where pixels it did not keep lie (kept_tiles.glsl.h).

@@ -8,9 +8,10 @@
 // resolve (temporal_resolve.comp) leaves them, and their neighbours' clip
 // and filter there see converged values in place of one noisy sample. In a
 // playback step with the camera still, most of the image is such pixels:
-// the step shades only where something changed. It runs over a rectangle
-// of tiles (from pc.keep_origin) that holds every pixel it would not keep
-// (native/screen_region.h); outside it the renderer copies history whole.
+// the step shades only where something changed. It runs over a list of
+// tiles that holds every pixel it would not keep (native/screen_region.h:
+// the shape of the change on screen); outside them the renderer copies
+// history whole.
 #include "shared.h"
 
 layout(local_size_x = kTemporalTile, local_size_y = kTemporalTile) in;  // (a work group per tile)
@@ -28,14 +29,14 @@ layout(binding = 9, rgba32f) uniform writeonly image2D resolved_passes;
 layout(std430, binding = 10) buffer Tiles { uint tile_words[]; };
 layout(binding = 13, rgba32f) uniform readonly image2D history_moments;
 layout(binding = 14, rgba32f) uniform writeonly image2D resolved_moments;
-// The rectangle of the tiles it listed (x, y of the first, x, y of the
-// last): the pixels left unsettled, which the next step's region holds.
-layout(std430, binding = 15) buffer Unsettled { uint unsettled_tiles[4]; };
+// The tiles it runs over, a work group each (x + tiles across * y).
+layout(std430, binding = 15) readonly buffer KeepTiles { uint keep_tiles[]; };
 #define RTSDF_LISTS_TILES
 #include "temporal_history.glsl.h"
 
 void main() {
-  ivec2 tile = ivec2(gl_WorkGroupID.xy) + pc.keep_origin;
+  uint across = uint(pixel_tiles().tiles.x), index = keep_tiles[gl_WorkGroupID.x];
+  ivec2 tile = ivec2(index % across, index / across);
   ivec2 pixel = tile * int(kTemporalTile) + ivec2(gl_LocalInvocationID.xy);
   if (any(greaterThanEqual(pixel, pc.image_size))) return;
   vec4 position = imageLoad(g_position, pixel);
@@ -56,10 +57,7 @@ void main() {
   if (kept) {
     imageStore(resolved_moments, pixel, r.moments);
     imageStore(accum_color, pixel, h.color);
-  } else if (list_tile(pixel_tiles(), tile)) {  // (for the pixel passes and the resolve)
-    atomicMin(unsettled_tiles[0], uint(tile.x));
-    atomicMin(unsettled_tiles[1], uint(tile.y));
-    atomicMax(unsettled_tiles[2], uint(tile.x));
-    atomicMax(unsettled_tiles[3], uint(tile.y));
+  } else {
+    list_tile(pixel_tiles(), tile);  // (for the pixel passes and the resolve; the next step's region holds them)
   }
 }

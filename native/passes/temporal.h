@@ -46,12 +46,12 @@ class TemporalPass {
   // (Re)allocates the tile list for a width x height image.
   void resize(glm::ivec2 size);
   // The pixels a step with a keep pass reads, where every pixel it would not
-  // keep lies in `unsettled`: the tiles holding them (shaded and resolved),
-  // the quad groups that share samples with those, and the neighbours the
-  // resolve reads; whole tiles. The G-buffer and the keep pass need draw no
-  // more.
-  PixelRect keep_region(const PixelRect& unsettled) const;
-  // Before the shading (shaders/temporal_keep.comp), over `region` (from
+  // keep lies in the tiles `unsettled`: those tiles (shaded and resolved),
+  // the quad groups that share samples with them, and the neighbours the
+  // resolve reads; in tiles. The keep pass need test no more, and the
+  // G-buffer draw no more than their bounds.
+  TileMask keep_region(const TileMask& unsettled) const;
+  // Before the shading (shaders/temporal_keep.comp), over the tiles `region` (from
   // keep_region): where history stands whatever the new sample, it is
   // resolved (images.resolved_*) and becomes the sample (images.sample_*),
   // marked for the shading and the resolve to skip (gpu::kKeptSample). The
@@ -60,10 +60,10 @@ class TemporalPass {
   // colour (the sample's passes there are left: nothing reads them).
   void record_keep(VkCommandBuffer cmd, const GBufferPass& gbuffer, const TemporalImages& images,
                    const vk::Buffer& frame, const vk::Buffer& lights, gpu::TemporalPush push,
-                   const PixelRect& region) const;
-  // The rectangle of the tiles holding the pixels the last keep pass did not
-  // keep, in pixels (empty if it kept them all); read once its commands have run.
-  PixelRect unsettled_pixels() const;
+                   const TileMask& region) const;
+  // The tiles holding the pixels the last keep pass did not keep (none if
+  // it kept them all); read once its commands have run.
+  TileMask unsettled_tiles() const;
   // After it (shaders/temporal_resolve.comp). `after_keep`: over the tiles
   // the keep pass listed alone, with the History it handed on (the
   // pipeline with kListedTiles); otherwise over every pixel.
@@ -81,7 +81,8 @@ class TemporalPass {
   vk::Pipeline resolve_listed_;  // (over the keep pass's list, taking the History it handed on)
   glm::ivec2 size_{0};
   vk::Buffer tiles_;  // see gpu::kTemporalTile
-  vk::Buffer unsettled_;  // the keep pass's listed tiles' rectangle (host-visible: the next step's region)
+  vk::Buffer unsettled_;  // the keep pass's listed pixel tiles' flags (host-visible: the next step's region)
+  vk::Buffer keep_tiles_;  // the tiles the keep pass runs over (host-visible: written as it is recorded)
 };
 
 }  // namespace rtsdf

@@ -4,6 +4,8 @@
 // stay well short of the whole image where the change is small.
 #include <gtest/gtest.h>
 
+#include <cstdio>
+
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "lights.h"
@@ -31,8 +33,10 @@ glm::ivec2 seen_at(float x, float y) {
 bool holds(const PixelRect& rect, glm::ivec2 pixel) {
   return glm::all(glm::greaterThanEqual(pixel, rect.lo)) && glm::all(glm::lessThan(pixel, rect.hi));
 }
+bool holds(const TileMask& tiles, glm::ivec2 pixel) { return tiles.holds(pixel); }
 
 double share(const PixelRect& rect) { return double(rect.size().x) * rect.size().y / (double(kSize.x) * kSize.y); }
+double share(const TileMask& tiles) { return tiles.share(); }
 
 // A unit box standing 2 above the ground at the origin, which moved there.
 gpu::FrameData box_moved() {
@@ -43,7 +47,7 @@ gpu::FrameData box_moved() {
   return frame;
 }
 
-const Bounds kGround{{-10.0f, -10.0f, 0.0f}, {10.0f, 10.0f, 3.0f}};  // (everything seen)
+const std::vector<Bounds> kGround{{{-10.0f, -10.0f, 0.0f}, {10.0f, 10.0f, 3.0f}}};  // (everything seen)
 
 TEST(PixelRect, UnitesGrowsWithinTheImageAndTellsEmpty) {
   const PixelRect a{{10, 10}, {20, 30}}, b{{15, 5}, {40, 12}}, none;
@@ -56,6 +60,66 @@ TEST(PixelRect, UnitesGrowsWithinTheImageAndTellsEmpty) {
   EXPECT_TRUE(none.grown(5, kSize).is_empty());
   EXPECT_EQ(a.intersected(b), (PixelRect{{15, 10}, {20, 12}}));
   EXPECT_TRUE(a.intersected(PixelRect{{25, 0}, {30, 5}}).is_empty());
+}
+
+TEST(TileMask, MarksTheTilesOfARectangleAndItsOutsideCoversTheRestOnce) {
+  TileMask tiles(kSize);  // (25 x 13 tiles, the last row half outside the image)
+  EXPECT_TRUE(tiles.is_empty());
+  tiles.add(PixelRect{{10, 20}, {17, 21}});  // (tiles x 1-2, y 2)
+  tiles.add(PixelRect{{190, 97}, {300, 300}});  // (cut by the image: tile 23-24, 12)
+  EXPECT_EQ(tiles.indices(), (std::vector<uint32_t>{1 + 25 * 2, 2 + 25 * 2, 23 + 25 * 12, 24 + 25 * 12}));
+  EXPECT_EQ(tiles.bounds(), (PixelRect{{8, 16}, {200, 100}}));
+  EXPECT_DOUBLE_EQ(tiles.share(), 4.0 / (25 * 13));
+  EXPECT_TRUE(tiles.holds({16, 23}));
+  EXPECT_FALSE(tiles.holds({24, 23}));
+  std::vector<int> covered(size_t(kSize.x) * kSize.y, 0);
+  for (const PixelRect& rect : tiles.outside())
+    for (int y = rect.lo.y; y < rect.hi.y; ++y)
+      for (int x = rect.lo.x; x < rect.hi.x; ++x) covered[size_t(x) + size_t(kSize.x) * y]++;
+  for (int y = 0; y < kSize.y; ++y)
+    for (int x = 0; x < kSize.x; ++x)
+      ASSERT_EQ(covered[size_t(x) + size_t(kSize.x) * y], tiles.holds({x, y}) ? 0 : 1) << x << ", " << y;
+  EXPECT_EQ(TileMask::whole(kSize).share(), 1.0);
+  EXPECT_TRUE(TileMask::whole(kSize).outside().empty());
+}
+
+TEST(TileMask, AConvexPolygonMarksTheTilesItReachesAndNoneBesideIt) {
+  TileMask tiles(kSize);
+  // A thin diagonal band from (20, 10) to (180, 90), half a pixel wide.
+  tiles.add_convex({{20.0f, 10.0f}, {180.0f, 90.0f}, {180.5f, 89.5f}, {20.5f, 9.5f}}, 0.0f, PixelRect::whole(kSize));
+  for (float t : {0.0f, 0.3f, 0.7f, 1.0f}) {
+    const glm::vec2 on = glm::mix(glm::vec2(20.0f, 10.0f), glm::vec2(180.0f, 90.0f), t);
+    EXPECT_TRUE(tiles.holds(glm::ivec2(on))) << on.x << ", " << on.y;
+  }
+  EXPECT_FALSE(tiles.holds({170, 20})) << "the far corner of its bounds";
+  EXPECT_FALSE(tiles.holds({30, 80}));
+  EXPECT_LT(tiles.share(), 0.25 * double(tiles.bounds().size().x * tiles.bounds().size().y) / (kSize.x * kSize.y));
+  // Grown by a margin, within a rectangle.
+  TileMask grown(kSize);
+  grown.add_convex({{20.0f, 10.0f}, {180.0f, 90.0f}, {180.5f, 89.5f}, {20.5f, 9.5f}}, 12.0f, PixelRect{{0, 0}, {100, 100}});
+  EXPECT_TRUE(grown.holds({60, 40}));
+  EXPECT_TRUE(grown.holds({60, 50})) << "10 pixels off the band";
+  EXPECT_FALSE(grown.holds({140, 70})) << "beyond the rectangle and its margin";
+}
+
+// A sun shining across the image at a slant: the box's shadow falls 2 to 3
+// units towards +x and 0.8 to 1.2 towards +y. The tiles hold the box and
+// its shadow, and leave the corners of the rectangle holding both.
+TEST(ScreenRegion, ASlantedShadowTakesItsOwnTilesNotTheirBoundingRectangle) {
+  Light sun;
+  sun.direction = glm::normalize(glm::vec3(1.0f, 0.4f, -1.0f));
+  sun.sun_angle = 0.02f;
+  const TileMask region = change_on_screen(box_moved(), {to_gpu(sun)}, kGround, kSize, 1.0f);
+  for (glm::vec2 corner : {glm::vec2(-0.5f, -0.5f), glm::vec2(0.5f, 0.5f), glm::vec2(-0.5f, 0.5f), glm::vec2(0.5f, -0.5f)}) {
+    EXPECT_TRUE(region.holds(seen_at(corner.x, corner.y))) << "the box";
+    for (float height : {2.0f, 3.0f})
+      EXPECT_TRUE(region.holds(seen_at(corner.x + height, corner.y + 0.4f * height))) << "its shadow";
+  }
+  const PixelRect bounds = region.bounds();
+  for (glm::vec2 corner : {glm::vec2(-1.3f, 1.85f), glm::vec2(3.8f, -1.3f)})
+    EXPECT_TRUE(holds(bounds, seen_at(corner.x, corner.y)) && !region.holds(seen_at(corner.x, corner.y)))
+        << "a corner of the rectangle left out: " << corner.x << ", " << corner.y;
+  EXPECT_LT(region.share(), 0.85 * share(bounds));
 }
 
 TEST(ScreenRegion, AHullBehindTheCameraTakesTheWholeImageAndOneOffScreenNone) {
@@ -75,7 +139,7 @@ TEST(ScreenRegion, ASunsRegionHoldsTheMovedBoxAndItsShadowOnTheGround) {
   Light sun;
   sun.direction = glm::normalize(glm::vec3(1, 0, -1));
   sun.sun_angle = 0.02f;
-  const PixelRect region = change_on_screen(box_moved(), {to_gpu(sun)}, kGround, kSize, 1.0f);
+  const TileMask region = change_on_screen(box_moved(), {to_gpu(sun)}, kGround, kSize, 1.0f);
   for (float y : {-0.5f, 0.5f}) {
     EXPECT_TRUE(holds(region, seen_at(-0.5f, y))) << "the box";
     EXPECT_TRUE(holds(region, seen_at(2.0f + 0.5f, y))) << "its shadow's near edge";
@@ -94,8 +158,8 @@ TEST(ScreenRegion, TheTestsOfSurfacePointsEndWhereNothingIsSeen) {
   Light sun;
   sun.direction = glm::normalize(glm::vec3(1, 0, -1));
   sun.sun_angle = 0.02f;
-  const Bounds narrow{{-10.0f, -10.0f, 0.0f}, {1.0f, 10.0f, 3.0f}};
-  const PixelRect region = change_on_screen(box_moved(), {to_gpu(sun)}, narrow, kSize, 1.0f);
+  const std::vector<Bounds> narrow{{{-10.0f, -10.0f, 0.0f}, {1.0f, 10.0f, 3.0f}}};
+  const TileMask region = change_on_screen(box_moved(), {to_gpu(sun)}, narrow, kSize, 1.0f);
   EXPECT_TRUE(holds(region, seen_at(0.9f, 0.0f)));
   EXPECT_FALSE(holds(region, seen_at(1.5f, 0.0f)));
   gpu::FrameData moved_beyond = box_moved();
@@ -113,7 +177,7 @@ TEST(ScreenRegion, APointLightsRegionHoldsTheShadowsProjectionAndALightInsideTak
   point.type = LightType::Point;
   point.position = {-1.0f, 0.0f, 6.0f};
   point.radius = 0.1f;
-  const PixelRect region = change_on_screen(box_moved(), {to_gpu(point)}, kGround, kSize, 1.0f);
+  const TileMask region = change_on_screen(box_moved(), {to_gpu(point)}, kGround, kSize, 1.0f);
   // (a corner at height 2 seen from the light at height 6 lands 6/4 as far out on the ground)
   for (glm::vec2 corner : {glm::vec2(0.5f, 0.5f), glm::vec2(0.5f, -0.5f), glm::vec2(-0.5f, 0.5f)}) {
     const glm::vec2 on_ground = glm::vec2(-1.0f, 0.0f) + 1.5f * (corner - glm::vec2(-1.0f, 0.0f));
@@ -122,7 +186,36 @@ TEST(ScreenRegion, APointLightsRegionHoldsTheShadowsProjectionAndALightInsideTak
   EXPECT_FALSE(holds(region, seen_at(-3.5f, 0.0f)));
   EXPECT_LT(share(region), 0.5);
   point.position = {0.0f, 0.0f, 2.5f};
-  EXPECT_EQ(change_on_screen(box_moved(), {to_gpu(point)}, kGround, kSize, 1.0f), PixelRect::whole(kSize));
+  EXPECT_EQ(change_on_screen(box_moved(), {to_gpu(point)}, kGround, kSize, 1.0f).share(), 1.0);
+}
+
+// A box standing on a ground, seen from above at a slant: its contact
+// volume (the box grown by a share of its diagonal) covers, on screen, much
+// of the ground behind it, but the surfaces it holds are the box and the
+// ground at its foot. Taken apart, the boxes of what is seen (the ground's
+// slab, the box) give a region that holds the foot and lies within the
+// region of one box holding both, smaller.
+TEST(ScreenRegion, EachSeenBoxTakesItsOwnPartOfAContactVolume) {
+  gpu::FrameData frame{};
+  frame.steady_world_to_clip = kGlToVulkan * glm::perspectiveRH_NO(0.8f, 2.0f, 0.1f, 40.0f) *
+                               glm::lookAt(glm::vec3(0, -8, 6), glm::vec3(0, 0, 0.5f), glm::vec3(0, 0, 1));
+  frame.changed_lo = frame.moved_lo = glm::vec4(-0.5f, -0.5f, 0.0f, 1.0f);
+  frame.changed_hi = frame.moved_hi = glm::vec4(0.5f, 0.5f, 2.0f, 1.0f);
+  const Bounds ground{{-10.0f, -10.0f, -0.1f}, {10.0f, 10.0f, 0.0f}}, box{glm::vec3(frame.changed_lo), glm::vec3(frame.changed_hi)};
+  const TileMask apart = change_on_screen(frame, {}, {ground, box}, kSize, 1.0f);
+  const TileMask together = change_on_screen(frame, {}, {{ground.lo, glm::max(ground.hi, box.hi)}}, kSize, 1.0f);
+  auto seen = [&](glm::vec3 p) {
+    const glm::vec4 clip = frame.steady_world_to_clip * glm::vec4(p, 1.0f);
+    return glm::ivec2((glm::vec2(clip) / clip.w + 1.0f) * 0.5f * glm::vec2(kSize));
+  };
+  for (glm::vec3 foot : {glm::vec3(0.9f, 0.0f, 0.0f), glm::vec3(-0.9f, 0.3f, 0.0f), glm::vec3(0.0f, -1.0f, 0.0f), glm::vec3(0.2f, 1.0f, 0.0f)}) {
+    EXPECT_TRUE(apart.holds(seen(foot))) << foot.x << ", " << foot.y;
+    EXPECT_TRUE(together.holds(seen(foot)));
+  }
+  std::printf("share of the image: boxes apart %.3f, one box %.3f\n", apart.share(), together.share());
+  EXPECT_LT(apart.share(), 0.9 * together.share());
+  for (uint32_t tile : apart.indices())
+    EXPECT_TRUE(together.holds_tile({int(tile % uint32_t(apart.tiles().x)), int(tile / uint32_t(apart.tiles().x))}));
 }
 
 TEST(ScreenRegion, NothingChangedIsEmpty) {
