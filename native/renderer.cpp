@@ -632,12 +632,13 @@ void Renderer::add_frame() {
   // shaded anew.
   const glm::ivec2 size(width_, height_);
   TileMask kept_region = TileMask::whole(size);
+  PixelRect drawn = PixelRect::whole(size);
   if (keeps && centred && settings_.changed_region_only) {
     TileMask unsettled = change_on_screen_;
     unsettled.add(unsettled_.image_size() == size ? unsettled_ : TileMask::whole(size));
     kept_region = temporal_.keep_region(unsettled);
+    drawn = temporal_.drawn_region(unsettled);
   }
-  const PixelRect drawn = kept_region.bounds();  // (the G-buffer's: nothing outside them reads it)
   stats_.drawn_share = kept_region.share();
   context_.submit_and_wait([&](VkCommandBuffer cmd) {
     shading_timer_.begin(cmd);

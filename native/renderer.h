@@ -187,7 +187,7 @@ struct RenderStats {
   float resolution_scale = 1;   // rtsdf: below 1, resolutions lowered to fit field_budget_mb
   int skipped_degenerate = 0;   // rtsdf: instances a scale flattens to nothing, left out of the fields
   // The share of the image the last frame drew (the tiles its temporal keep
-  // pass tested; its G-buffer drew the rectangle holding them): below 1 in a
+  // pass tested; its G-buffer drew a rectangle around them): below 1 in a
   // playback step that drew its changed region alone.
   double drawn_share = 0.0;
 };

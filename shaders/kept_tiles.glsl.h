@@ -31,6 +31,11 @@ ivec2 listed_tile(TileList list) {
   return ivec2(index % uint(list.tiles.x), index / uint(list.tiles.x));
 }
 
+// Whether `tile` of `list` is listed.
+bool tile_listed(TileList list, ivec2 tile) {
+  return tile_words[list.first + 4u + uint(tile.x + list.tiles.x * tile.y)] != 0u;
+}
+
 #ifdef RTSDF_LISTS_TILES
 // Lists `tile` of `list`, once: true for the call that listed it.
 bool list_tile(TileList list, ivec2 tile) {

@@ -58,7 +58,10 @@ layout(std430, binding = 19) readonly buffer KeptTiles { uint tile_words[]; };
 // Whether the temporal keep pass (temporal_keep.comp) took this pixel's
 // history as this frame's sample: nothing of it is shaded.
 bool kept_from_history(ivec2 pixel) {
-  return pc.kept_history == 1u && imageLoad(accum_passes, pixel).z == kKeptSample;
+  // (a pixel of a tile the keep pass did not list is kept, and may not carry
+  // its mark: the keep pass runs over fewer tiles than the quad pass reads)
+  return pc.kept_history == 1u &&
+         (!tile_listed(pixel_tiles(), pixel / int(kTemporalTile)) || imageLoad(accum_passes, pixel).z == kKeptSample);
 }
 
 // The pixels a kShadeShared pass left to kShadeFill (x | y << 16), and the

@@ -59,20 +59,27 @@ void TemporalPass::resize(glm::ivec2 size) {
 }
 
 TileMask TemporalPass::keep_region(const TileMask& unsettled) const {
+  // The tiles holding unsettled pixels (shaded and resolved there) and the
+  // neighbours the resolve reads, 2 pixels out: a tile each way.
+  auto reach = [](int t) { return glm::ivec2(t - 1, t + 1); };
+  return unsettled.spread(reach, reach);
+}
+
+PixelRect TemporalPass::drawn_region(const TileMask& unsettled) const {
   const int tile = int(gpu::kTemporalTile), group = 2 * int(gpu::kQuadGroup);  // (a quad group's pixels across)
   auto floor_div = [](int a, int b) { return a >= 0 ? a / b : -((-a + b - 1) / b); };
-  // Around each tile holding unsettled pixels (shaded and resolved there),
-  // on each axis: the quad groups listed beside it
-  // (temporal_quad_groups.comp: group g shares samples with pixels 16g - 1
-  // to 16g + 16, and reads those), and the resolve's neighbours 2 pixels
-  // out (3: the quads' sample pixels the pixel passes read); in tiles.
+  // Around each tile holding unsettled pixels, on each axis: the quad
+  // groups listed beside it (temporal_quad_groups.comp: group g shares
+  // samples with pixels 16g - 1 to 16g + 16, and reads those), and the
+  // resolve's neighbours 2 pixels out (3: the quads' sample pixels the pixel
+  // passes read); in tiles.
   auto reach = [&](int t) {
     const int lo = t * tile, hi = lo + tile;
     const int first_group = floor_div(lo - 1, group), last_group = floor_div(hi, group);
     const int first = std::min(group * first_group - 1, lo - 3), last = std::max(group * last_group + group + 1, hi + 3);
     return glm::ivec2(floor_div(first, tile), floor_div(last - 1, tile));
   };
-  return unsettled.spread(reach, reach);
+  return unsettled.spread(reach, reach).bounds();
 }
 
 namespace {

@@ -45,12 +45,14 @@ class TemporalPass {
   explicit TemporalPass(const vk::Context& context);
   // (Re)allocates the tile list for a width x height image.
   void resize(glm::ivec2 size);
-  // The pixels a step with a keep pass reads, where every pixel it would not
-  // keep lies in the tiles `unsettled`: those tiles (shaded and resolved),
-  // the quad groups that share samples with them, and the neighbours the
-  // resolve reads; in tiles. The keep pass need test no more, and the
-  // G-buffer draw no more than their bounds.
+  // Where every pixel a step would not keep lies in the tiles `unsettled`:
+  // the tiles the keep pass tests, those and the neighbours the resolve
+  // reads of their kept pixels (the shading reads no mark of the keep pass
+  // outside the tiles it lists, shade_inputs.glsl.h's kept_from_history).
   TileMask keep_region(const TileMask& unsettled) const;
+  // ... and the pixels whose G-buffer the step reads: those tiles, the quad
+  // groups that share samples with them, and the resolve's neighbours.
+  PixelRect drawn_region(const TileMask& unsettled) const;
   // Before the shading (shaders/temporal_keep.comp), over the tiles `region` (from
   // keep_region): where history stands whatever the new sample, it is
   // resolved (images.resolved_*) and becomes the sample (images.sample_*),
