@@ -41,7 +41,7 @@ constexpr float kReprojectedDepthTolerance = 0.01f;
 // Up to this many instances seen by the camera, a playback step's region on
 // screen takes each one's box apart (screen_region.h); beyond, one box
 // holding them all.
-constexpr size_t kSeparatelyBoundedInstances = 256;
+constexpr size_t kSeparatelyBoundedInstances = 64;
 
 // The sub-pixel jitter's reach in whole pixels: the pixel filter's jitter
 // reaches filter_width pixels either way.

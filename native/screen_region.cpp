@@ -108,11 +108,19 @@ void TileMask::add(const TileMask& other) {
 void TileMask::add_convex(const std::vector<glm::vec2>& hull, float margin, const PixelRect& within) {
   if (hull.empty()) return;
   // The axes that may part a tile from the polygon: the tiles' own, and
-  // each edge's normal (the separating axis theorem, for convex shapes).
-  std::vector<glm::vec2> axes;
+  // each edge's normal (the separating axis theorem, for convex shapes),
+  // with the polygon's extent along each.
+  struct Axis {
+    glm::vec2 direction;
+    float lo, hi;
+  };
+  std::vector<Axis> axes;
   for (size_t i = 0; i < hull.size() && hull.size() > 1; ++i) {
     const glm::vec2 edge = hull[(i + 1) % hull.size()] - hull[i];
-    if (edge != glm::vec2(0.0f)) axes.push_back(glm::vec2(-edge.y, edge.x));
+    if (edge == glm::vec2(0.0f)) continue;
+    Axis axis{glm::vec2(-edge.y, edge.x), std::numeric_limits<float>::max(), std::numeric_limits<float>::lowest()};
+    for (const glm::vec2& p : hull) axis.lo = std::min(axis.lo, glm::dot(axis.direction, p)), axis.hi = std::max(axis.hi, glm::dot(axis.direction, p));
+    axes.push_back(axis);
   }
   glm::vec2 lo = hull.front(), hi = hull.front();
   for (const glm::vec2& p : hull) lo = glm::min(lo, p), hi = glm::max(hi, p);
@@ -120,15 +128,14 @@ void TileMask::add_convex(const std::vector<glm::vec2>& hull, float margin, cons
   PixelRect span{glm::ivec2(glm::floor(lo - margin)), glm::ivec2(glm::floor(hi + margin)) + 1};
   span = span.intersected(within.grown(int(std::ceil(margin)), image_size_));
   if (span.is_empty()) return;
+  const glm::vec2 half(0.5f * float(tile) + margin);
   for (int y = span.lo.y / tile; y <= (span.hi.y - 1) / tile; ++y)
     for (int x = span.lo.x / tile; x <= (span.hi.x - 1) / tile; ++x) {
-      const glm::vec2 box_lo = glm::vec2(x, y) * float(tile) - margin, box_hi = glm::vec2(x + 1, y + 1) * float(tile) + margin;
-      const bool parted = std::any_of(axes.begin(), axes.end(), [&](glm::vec2 axis) {
-        float polygon_lo = std::numeric_limits<float>::max(), polygon_hi = std::numeric_limits<float>::lowest();
-        for (const glm::vec2& p : hull) polygon_lo = std::min(polygon_lo, glm::dot(axis, p)), polygon_hi = std::max(polygon_hi, glm::dot(axis, p));
-        const glm::vec2 centre = 0.5f * (box_lo + box_hi), half = 0.5f * (box_hi - box_lo);
-        const float box_centre = glm::dot(axis, centre), box_half = half.x * std::abs(axis.x) + half.y * std::abs(axis.y);
-        return box_centre + box_half < polygon_lo || box_centre - box_half > polygon_hi;
+      const glm::vec2 centre = (glm::vec2(x, y) + 0.5f) * float(tile);
+      const bool parted = std::any_of(axes.begin(), axes.end(), [&](const Axis& axis) {
+        const float at = glm::dot(axis.direction, centre);
+        const float reach = half.x * std::abs(axis.direction.x) + half.y * std::abs(axis.direction.y);
+        return at + reach < axis.lo || at - reach > axis.hi;
       });
       if (!parted) mark({x, y});  // (the tiles' own axes part nothing within `span`)
     }
