@@ -1,10 +1,11 @@
 #pragma once
 // Where on screen a change in the scene can show, found on the CPU before a
-// frame is drawn: the temporal keep pass (shaders/temporal_keep.comp) and the
-// G-buffer of a playback step run over that region alone, and the pixels
-// outside it take history as it was (a plane copy). The tests here mirror the
-// keep pass's own (shaders/temporal_history.glsl.h), each as a world volume
-// projected to a rectangle that holds it: a pixel they would not keep lies
+// frame is drawn: the temporal keep pass (shaders/temporal_keep.comp) of a
+// playback step runs over those tiles alone (the G-buffer over a rectangle
+// around them), and the pixels outside them take history as it was (a plane
+// copy). The tests here mirror the keep pass's own
+// (shaders/temporal_history.glsl.h), each as a convex world volume whose
+// projected outline's tiles hold it: a pixel they would not keep lies
 // inside, so drawing less changes no pixel's colour.
 #include <glm/glm.hpp>
 #include <algorithm>

@@ -30,7 +30,7 @@ class GBufferPass {
   // shading's receiver offsets are measured in. `motions`, per instance,
   // where its points were in the last frame (world_motions). Draws the
   // pixels of `region` alone (a playback step reads no others:
-  // TemporalPass::keep_region); the rest keep what they held.
+  // TemporalPass::drawn_region); the rest keep what they held.
   void record(VkCommandBuffer cmd, const GpuScene& scene, const vk::Buffer& frame,
               const std::vector<float>& field_voxels, const std::vector<glm::mat4>& motions,
               const PixelRect& region) const;

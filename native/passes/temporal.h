@@ -50,8 +50,9 @@ class TemporalPass {
   // reads of their kept pixels (the shading reads no mark of the keep pass
   // outside the tiles it lists, shade_inputs.glsl.h's kept_from_history).
   TileMask keep_region(const TileMask& unsettled) const;
-  // ... and the pixels whose G-buffer the step reads: those tiles, the quad
-  // groups that share samples with them, and the resolve's neighbours.
+  // ... and the rectangle holding the pixels whose G-buffer the step reads:
+  // those tiles, the quad groups that share samples with them, and the
+  // resolve's neighbours.
   PixelRect drawn_region(const TileMask& unsettled) const;
   // Before the shading (shaders/temporal_keep.comp), over the tiles `region` (from
   // keep_region): where history stands whatever the new sample, it is
