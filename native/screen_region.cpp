@@ -7,12 +7,6 @@
 
 namespace rtsdf {
 
-PixelRect PixelRect::united(const PixelRect& other) const {
-  if (is_empty()) return other;
-  if (other.is_empty()) return *this;
-  return {glm::min(lo, other.lo), glm::max(hi, other.hi)};
-}
-
 PixelRect PixelRect::intersected(const PixelRect& other) const {
   const PixelRect both{glm::max(lo, other.lo), glm::min(hi, other.hi)};
   return both.is_empty() ? PixelRect{} : both;
@@ -94,15 +88,15 @@ void TileMask::add(const PixelRect& rect) {
 TileMask TileMask::intersected(const TileMask& other) const {
   if (other.tiles_ != tiles_) throw std::invalid_argument("TileMask: the masks are of images of other sizes");
   TileMask both(image_size_);
-  for (size_t i = 0; i < bits_.size(); ++i)
-    if (bits_[i] && other.bits_[i]) both.mark({int(i % size_t(tiles_.x)), int(i / size_t(tiles_.x))});
+  for (size_t i = 0; i < bits_.size(); ++i) both.bits_[i] = bits_[i] & other.bits_[i];
+  both.marked_ = size_t(std::count(both.bits_.begin(), both.bits_.end(), uint8_t(1)));
   return both;
 }
 
 void TileMask::add(const TileMask& other) {
   if (other.tiles_ != tiles_) throw std::invalid_argument("TileMask: the masks are of images of other sizes");
-  for (size_t i = 0; i < bits_.size(); ++i)
-    if (other.bits_[i]) mark({int(i % size_t(tiles_.x)), int(i / size_t(tiles_.x))});
+  for (size_t i = 0; i < bits_.size(); ++i) bits_[i] |= other.bits_[i];
+  marked_ = size_t(std::count(bits_.begin(), bits_.end(), uint8_t(1)));
 }
 
 void TileMask::add_convex(const std::vector<glm::vec2>& hull, float margin, const PixelRect& within) {
@@ -143,17 +137,25 @@ void TileMask::add_convex(const std::vector<glm::vec2>& hull, float margin, cons
 
 namespace {
 
-// Projections of `points` to pixel coordinates (pixel i spanning [i, i + 1));
-// false where a point lies at or behind the camera's plane (its hull may
-// then reach round any side of the screen) or too far out to place.
+// The pixel coordinates of p (pixel i spanning [i, i + 1)); false at or
+// behind the camera's plane, where a point projects nowhere useful (its
+// hull's edges towards it cross the screen's sides).
+bool to_pixel(const glm::mat4& world_to_clip, glm::ivec2 size, glm::vec3 p, glm::vec2& pixel) {
+  const glm::vec4 clip = world_to_clip * glm::vec4(p, 1.0f);
+  if (!(clip.w > 1e-6f * std::max(std::abs(clip.x), std::abs(clip.y)) && clip.w > 0.0f)) return false;
+  pixel = (glm::vec2(clip) / clip.w + 1.0f) * 0.5f * glm::vec2(size);
+  return true;
+}
+
+// Projections of `points` to pixel coordinates; false where a point lies
+// at or behind the camera's plane or too far out to place.
 bool project_points(const glm::mat4& world_to_clip, glm::ivec2 size, const std::vector<glm::vec3>& points,
                     std::vector<glm::vec2>& pixels) {
   pixels.clear();
+  glm::vec2 pixel;
   for (const glm::vec3& p : points) {
-    const glm::vec4 clip = world_to_clip * glm::vec4(p, 1.0f);
-    if (!(clip.w > 1e-6f * std::max(std::abs(clip.x), std::abs(clip.y)) && clip.w > 0.0f)) return false;
-    const glm::vec2 pixel = (glm::vec2(clip) / clip.w + 1.0f) * 0.5f * glm::vec2(size);
-    if (!(std::abs(pixel.x) < 1e6f && std::abs(pixel.y) < 1e6f)) return false;
+    if (!to_pixel(world_to_clip, size, p, pixel) || !(std::abs(pixel.x) < 1e6f && std::abs(pixel.y) < 1e6f))
+      return false;
     pixels.push_back(pixel);
   }
   return true;
@@ -184,13 +186,9 @@ std::vector<glm::vec2> convex_hull(std::vector<glm::vec2> points) {
 PixelRect project_hull(const glm::mat4& world_to_clip, glm::ivec2 size, const std::vector<glm::vec3>& points) {
   const PixelRect whole = PixelRect::whole(size);
   glm::vec2 lo(std::numeric_limits<float>::max()), hi(std::numeric_limits<float>::lowest());
+  glm::vec2 pixel;
   for (const glm::vec3& p : points) {
-    const glm::vec4 clip = world_to_clip * glm::vec4(p, 1.0f);
-    // (at or behind the camera's plane, a point projects nowhere useful: its
-    // hull's edges towards it cross the screen's sides)
-    if (!(clip.w > 1e-6f * std::max(std::abs(clip.x), std::abs(clip.y)) && clip.w > 0.0f)) return whole;
-    const glm::vec2 pixel = (glm::vec2(clip) / clip.w + 1.0f) * 0.5f * glm::vec2(size);
-    if (!std::isfinite(pixel.x) || !std::isfinite(pixel.y)) return whole;
+    if (!to_pixel(world_to_clip, size, p, pixel) || !std::isfinite(pixel.x) || !std::isfinite(pixel.y)) return whole;
     lo = glm::min(lo, pixel);
     hi = glm::max(hi, pixel);
   }

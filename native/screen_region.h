@@ -25,8 +25,6 @@ struct PixelRect {
   static PixelRect whole(glm::ivec2 size) { return {glm::ivec2(0), size}; }
   bool is_empty() const { return hi.x <= lo.x || hi.y <= lo.y; }
   glm::ivec2 size() const { return is_empty() ? glm::ivec2(0) : hi - lo; }
-  // The smallest rectangle holding both.
-  PixelRect united(const PixelRect& other) const;
   // The rectangle both hold.
   PixelRect intersected(const PixelRect& other) const;
   // Grown by `pixels` on every side, within an image of `size`.

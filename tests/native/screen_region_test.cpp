@@ -49,12 +49,9 @@ gpu::FrameData box_moved() {
 
 const std::vector<Bounds> kGround{{{-10.0f, -10.0f, 0.0f}, {10.0f, 10.0f, 3.0f}}};  // (everything seen)
 
-TEST(PixelRect, UnitesGrowsWithinTheImageAndTellsEmpty) {
+TEST(PixelRect, GrowsWithinTheImageIntersectsAndTellsEmpty) {
   const PixelRect a{{10, 10}, {20, 30}}, b{{15, 5}, {40, 12}}, none;
   EXPECT_TRUE(none.is_empty());
-  EXPECT_EQ(a.united(b), (PixelRect{{10, 5}, {40, 30}}));
-  EXPECT_EQ(a.united(none), a);
-  EXPECT_EQ(none.united(b), b);
   EXPECT_EQ(a.grown(15, kSize), (PixelRect{{0, 0}, {35, 45}}));
   EXPECT_EQ(PixelRect({{190, 90}, {200, 100}}).grown(5, kSize), (PixelRect{{185, 85}, {200, 100}}));
   EXPECT_TRUE(none.grown(5, kSize).is_empty());
