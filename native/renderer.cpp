@@ -668,6 +668,7 @@ void Renderer::add_frame() {
   // pixel after a frame that reprojected all of history or had none; none
   // once the frames since have drawn each pixel's full samples (a pixel
   // shaded anew from no history has them after history_samples frames).
+  stats_.short_history_share = keeps ? temporal_.short_history_share() : 0.0;
   if (keeps)
     // (and the tiles left of and above them: history is read a texel right and below too)
     unsettled_ = temporal_.unsettled_tiles().spread([](int x) { return glm::ivec2(x - 1, x); },

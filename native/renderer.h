@@ -190,6 +190,11 @@ struct RenderStats {
   // pass tested; its G-buffer drew a rectangle around them): below 1 in a
   // playback step that drew its changed region alone.
   double drawn_share = 0.0;
+  // The share of the image whose history the last frame's keep pass found
+  // may stand for one sample or none (a moved shadow on a still surface, a
+  // disocclusion): there its exact rays were more (shaders/shared.h,
+  // kShortHistoryRays). 0 where no keep pass ran.
+  double short_history_share = 0.0;
 };
 
 struct RenderTimings {

@@ -184,6 +184,16 @@ float rays_to_light(LightPath path, vec3 p, vec3 n, ivec2 pixel, int count) {
   return reached / float(count);
 }
 
+// The exact rays per light at `pixel`: pc.exact_rays, kShortHistoryRays
+// times as many where the keep pass marked history short. There the frame
+// shown is half this sample or all of it, and a share of 4 binary rays (0,
+// 1/4, ... 1) made a moved penumbra speckled where the still frame, 16
+// samples of 4, is smooth (docs/benchmarks.md).
+int exact_rays_at(ivec2 pixel) {
+  bool short_history = pc.kept_history == 1u && imageLoad(accum_passes, pixel).z == kShortHistorySample;
+  return int(pc.exact_rays) * (short_history ? int(kShortHistoryRays) : 1);
+}
+
 // The share of a light reaching a receiver (held by a field of world voxel
 // receiver_voxel, 0: in none; of normal n) from its march start `origin`: the
 // march starts pc.receiver_clearance of its voxels along the ray and escapes its own
@@ -206,7 +216,7 @@ float march_light(LightPath path, vec3 origin, vec3 n, float receiver_voxel, flo
     if (v >= 0.0) return v;
     vec3 p = origin - n * (pc.caster_offset * receiver_voxel);  // (the rays start at the surface itself)
     traced_exactly = true;
-    return rays_to_light(path, p, n, pixel, int(pc.exact_rays));
+    return rays_to_light(path, p, n, pixel, exact_rays_at(pixel));
   }
   return light_visibility(origin, path.march_dir, t_min, path.t_max, path.tan_radius, jitter, escape, pixel);
 }

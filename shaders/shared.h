@@ -202,6 +202,15 @@ const float kNearbyHistorySamples = 3.0;
 // accum_passes.z of a pixel whose history the temporal keep pass kept as
 // this frame's sample (temporal_keep.comp): the shading passes skip it.
 const float kKeptSample = -1.0;
+// accum_passes.z of a pixel the keep pass did not keep and whose history may
+// stand for one sample or none (history_may_be_short): the shown frame is
+// then mostly this frame's sample, and its exact rays are kShortHistoryRays
+// times as many (shade_inputs.glsl.h, exact_rays_at). The keep pass counts
+// them in the tile words' kShortHistoryCountWord (the pixel tiles' indirect
+// dispatch's fourth word), for RenderStats::short_history_share.
+const float kShortHistorySample = -2.0;
+const uint kShortHistoryRays = 4u;
+const uint kShortHistoryCountWord = 3u;
 // Where a still pixel is in contact with the casters that moved (and is
 // shaded anew): within this share of their box's diagonal of the box
 // (temporal_history.glsl.h, in_contact_with_change).

@@ -97,6 +97,7 @@ struct History {
   float previous_depth;  // the point's depth from the last camera (the G-buffer motion's z)
   vec3 on_ray;           // a point on this pixel's camera ray (the background's: on the near plane)
   bool front_moved;      // its nearest surface was what moved: it mixes in an object that has left
+  bool stays;            // where it was on screen (a surface that did not move, under a still camera)
   bool still;            // full history where it was on screen, nothing moved in front of it, same lighting
   bool away;             // the background, or beyond contact with the changed box (in_contact_with_change)
   bool shadow_may_move;  // a path to a light crosses the box of the casters that moved
@@ -113,6 +114,7 @@ History find_history(ivec2 pixel, vec4 position) {
   h.nearest = kNothingHitDepth;
   h.farthest = 0.0;
   h.front_moved = false;
+  h.stays = false;
   h.still = false;
   h.away = true;
   h.shadow_may_move = false;
@@ -194,8 +196,9 @@ History find_history(ivec2 pixel, vec4 position) {
   // new sample may see a surface its history never did (the jitter goes on
   // to offsets the still frames did not take); away from what moved, that
   // is the jitter, not motion, so its full history counts here.
+  h.stays = all(lessThan(abs(at - vec2(pixel)), vec2(1e-3)));
   h.still = pc.same_lighting == 1u && min(h.full_samples, float(pc.history_samples)) >= float(pc.history_samples) &&
-            !h.front_moved && all(lessThan(abs(at - vec2(pixel)), vec2(1e-3)));
+            !h.front_moved && h.stays;
   h.away = background || !in_contact_with_change(position.xyz);
   return h;
 }
@@ -209,6 +212,15 @@ bool settled_before_sample(History h) {
   return !h.disoccluded && h.still && h.away && !h.shadow_may_move;
 }
 
+// Whether history may stand for one sample or none: dropped, or on a
+// surface that stays where it was, with a light path past what moved, where
+// the resolve caps a moved shadow's history at moved_shadow_samples. (A
+// bound: most such pixels keep their shadow.) Not on a moving surface: its
+// history moves with it, and more rays there too (the engine sample's
+// moving part) made a playback step's quad pass 1.7x as long for the same
+// error of the frame shown.
+bool history_may_be_short(History h) { return h.disoccluded || (h.shadow_may_move && h.stays); }
+
 // The keep pass hands each pixel it did not keep its History, in the
 // resolved images (free until the resolve writes them), so that the resolve
 // does not find it again: on lavapipe the search (four texels, their
@@ -217,7 +229,7 @@ bool settled_before_sample(History h) {
 // every pixel was a cost added to one the resolve paid again. The point's
 // depth from the last camera is the G-buffer motion's z, read again.
 const uint kHistoryDisoccluded = 1u, kHistoryFrontMoved = 2u, kHistoryStill = 4u, kHistoryAway = 8u,
-           kHistoryShadowMayMove = 16u;
+           kHistoryShadowMayMove = 16u, kHistoryStays = 32u;
 
 // A pixel's resolved accumulation, as a temporal pass decides it and then
 // writes it, each image once: on lavapipe every image access in a shader's
@@ -232,7 +244,7 @@ struct Resolved {
 Resolved history_handed_on(History h) {
   uint flags = (h.disoccluded ? kHistoryDisoccluded : 0u) | (h.front_moved ? kHistoryFrontMoved : 0u) |
                (h.still ? kHistoryStill : 0u) | (h.away ? kHistoryAway : 0u) |
-               (h.shadow_may_move ? kHistoryShadowMayMove : 0u);
+               (h.shadow_may_move ? kHistoryShadowMayMove : 0u) | (h.stays ? kHistoryStays : 0u);
   return Resolved(vec4(h.color.rgb, float(flags)), vec4(h.shadow, h.samples, h.nearest, h.farthest), vec4(0.0));
 }
 
@@ -253,6 +265,7 @@ History handed_history(ivec2 pixel) {
   h.previous_depth = imageLoad(g_motion, pixel).z;
   h.on_ray = vec3(0.0);  // (likewise)
   h.front_moved = (flags & kHistoryFrontMoved) != 0u;
+  h.stays = (flags & kHistoryStays) != 0u;
   h.still = (flags & kHistoryStill) != 0u;
   h.away = (flags & kHistoryAway) != 0u;
   h.shadow_may_move = (flags & kHistoryShadowMayMove) != 0u;

@@ -11,7 +11,9 @@
 // the step shades only where something changed. It runs over a list of
 // tiles that holds every pixel it would not keep (native/screen_region.h:
 // the shape of the change on screen); outside them the renderer copies
-// history whole.
+// history whole. It also marks the pixels whose history may stand for one
+// sample or none (kShortHistorySample): their sample, most of what they
+// show, takes more exact rays.
 #include "shared.h"
 
 layout(local_size_x = kTemporalTile, local_size_y = kTemporalTile) in;  // (a work group per tile)
@@ -53,7 +55,10 @@ void main() {
   float seen = seen_depth(position);
   imageStore(resolved_color, pixel, r.color);
   imageStore(resolved_passes, pixel, r.passes);
-  imageStore(accum_passes, pixel, kept ? vec4(seen, h.shadow, kKeptSample, seen) : vec4(0.0));
+  bool short_history = !kept && history_may_be_short(h);
+  float mark = kept ? kKeptSample : (short_history ? kShortHistorySample : 0.0);
+  if (short_history) atomicAdd(tile_words[kShortHistoryCountWord], 1u);
+  imageStore(accum_passes, pixel, kept ? vec4(seen, h.shadow, mark, seen) : vec4(0.0, 0.0, mark, 0.0));
   if (kept) {
     imageStore(resolved_moments, pixel, r.moments);
     imageStore(accum_color, pixel, h.color);

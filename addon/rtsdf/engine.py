@@ -227,6 +227,9 @@ class RTSDFRenderEngine(bpy.types.RenderEngine):
         # A playback step draws only where its change can reach on screen.
         if out["frames"] == 1 and out["stats"].get("drawn_share", 1.0) < 0.995:
             state += f", drew {out['stats']['drawn_share']:.0%} of the image"
+        # (where a moved shadow or a disocclusion left little history, the exact rays were more)
+        if out["frames"] == 1 and out["stats"].get("short_history_share", 0.0) > 0.0:
+            state += f", {out['stats']['short_history_share']:.0%} short of history"
         self.update_stats("", f"RTSDF {state} | SDF {frame_ms['sdf']:.0f} ms | fine {frame_ms['fine']:.0f} ms | "
                               f"shading {frame_ms['shade']:.0f} ms | {field_summary(out['stats'], per_frame=True)}")
 

@@ -53,7 +53,7 @@ void TemporalPass::resize(glm::ivec2 size) {
                       vk::Buffer::Access::DeviceOnly);
   keep_tiles_ = vk::Buffer(context_, std::max<size_t>(pixel_tiles(size), 1) * sizeof(uint32_t),
                            VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, vk::Buffer::Access::HostVisible);
-  unsettled_ = vk::Buffer(context_, std::max<size_t>(pixel_tiles(size), 1) * sizeof(uint32_t),
+  unsettled_ = vk::Buffer(context_, (pixel_tiles(size) + 1) * sizeof(uint32_t),
                           VK_BUFFER_USAGE_TRANSFER_DST_BIT, vk::Buffer::Access::HostVisible);
   size_ = size;
 }
@@ -132,6 +132,12 @@ void copy_rects(VkCommandBuffer cmd, const std::vector<std::pair<const vk::Image
 }
 }  // namespace
 
+double TemporalPass::short_history_share() const {
+  uint32_t count = 0;
+  std::memcpy(&count, static_cast<const uint32_t*>(unsettled_.mapped()) + pixel_tiles(size_), sizeof count);
+  return double(count) / double(size_.x * size_.y);
+}
+
 TileMask TemporalPass::unsettled_tiles() const {
   TileMask tiles(size_);
   std::vector<uint32_t> listed(pixel_tiles(size_));
@@ -173,8 +179,11 @@ void TemporalPass::record_keep(VkCommandBuffer cmd, const GBufferPass& gbuffer, 
   // (the pixel tiles' flags, for the next step's region)
   vk::memory_barrier(cmd, VK_ACCESS_SHADER_WRITE_BIT, VK_ACCESS_TRANSFER_READ_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
                      VK_PIPELINE_STAGE_TRANSFER_BIT);
-  const VkBufferCopy flags{4 * sizeof(uint32_t), 0, pixel_tiles(size_) * sizeof(uint32_t)};
-  vkCmdCopyBuffer(cmd, tiles_.handle(), unsettled_.handle(), 1, &flags);
+  // (and the count of pixels marked short of history, after them)
+  const VkBufferCopy copies[2] = {{4 * sizeof(uint32_t), 0, pixel_tiles(size_) * sizeof(uint32_t)},
+                                  {gpu::kShortHistoryCountWord * sizeof(uint32_t),
+                                   pixel_tiles(size_) * sizeof(uint32_t), sizeof(uint32_t)}};
+  vkCmdCopyBuffer(cmd, tiles_.handle(), unsettled_.handle(), 2, copies);
   vk::memory_barrier(cmd, VK_ACCESS_TRANSFER_WRITE_BIT, VK_ACCESS_HOST_READ_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT,
                      VK_PIPELINE_STAGE_HOST_BIT);
   quad_groups_.bind(cmd);

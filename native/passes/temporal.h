@@ -67,6 +67,9 @@ class TemporalPass {
   // The tiles holding the pixels the last keep pass did not keep (none if
   // it kept them all); read once its commands have run.
   TileMask unsettled_tiles() const;
+  // The share of the image the last keep pass marked short of history
+  // (gpu::kShortHistorySample: their exact rays are more).
+  double short_history_share() const;
   // After it (shaders/temporal_resolve.comp). `after_keep`: over the tiles
   // the keep pass listed alone, with the History it handed on (the
   // pipeline with kListedTiles); otherwise over every pixel.

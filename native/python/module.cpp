@@ -255,6 +255,7 @@ py::dict stats_of(const rtsdf::RenderStats& s) {
   stats["resolution_scale"] = s.resolution_scale;
   stats["skipped_degenerate"] = s.skipped_degenerate;
   stats["drawn_share"] = s.drawn_share;
+  stats["short_history_share"] = s.short_history_share;
   return stats;
 }
 

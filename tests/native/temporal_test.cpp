@@ -852,6 +852,54 @@ TEST_F(TemporalTest, AnUncoveredPixelsSampleIsFilteredOverItsSurface) {
   EXPECT_LT(first_played.per_pixel, 0.8 * one_frame.per_pixel);
 }
 
+// A moved penumbra on a still ground, where exact rays decide (a wide sun,
+// 4 rays per light and sample): the first playback frame after the move
+// shows half of that frame's sample there (history stands for one sample
+// where a shadow moved). The keep pass marks those pixels and they take
+// kShortHistoryRays times the rays, so that the frame is not a share of 4
+// binary rays: its noise against a converged render stays well under one
+// frame's own. (With 4 rays there the ratio was 0.64, with 16 it is 0.42.)
+TEST_F(TemporalTest, AMovedPenumbraOnAStillGroundTakesMoreRaysInItsFirstFrame) {
+  RenderSettings settings = playback_settings();
+  settings.exact_rays = 4;
+  settings.samples = 16;
+  GpuScene scene(context(), cube_over_ground());
+  Renderer renderer(context());
+  draw_top_view(renderer, scene, {wide_sun()}, glm::vec3(0.0f), settings, settings.samples);
+  move_cube(scene, -0.5f + kMove);
+  draw_top_view(renderer, scene, {wide_sun()}, glm::vec3(0.0f), settings, 1);
+  const RenderOutput played = renderer.read();
+  const double marked = renderer.stats().short_history_share;
+
+  GpuScene moved(context(), cube_over_ground());
+  move_cube(moved, -0.5f + kMove);
+  RenderSettings still = settings;
+  still.temporal_reuse = false;
+  still.samples = 256;
+  Renderer fresh(context());
+  const RenderOutput converged = fresh.render(moved, top_view(), {wide_sun()}, glm::vec3(0.0f), kSize, kSize, still);
+  // (the moved penumbra on the ground: partly lit, short of history, and beside neither cube's top)
+  auto moved_penumbra = [&](size_t i) {
+    const double x = (double(i % kSize) + 0.5) / kSize * 4.0 - 2.0;
+    return converged.shadow[i] > 0.1f && converged.shadow[i] < 0.9f && played.samples[i] <= 2.0f &&
+           converged.depth[i] > 9.9f && x > 0.0;
+  };
+  still.samples = 1;
+  Renderer single(context());
+  const RenderOutput one_frame = single.render(moved, top_view(), {wide_sun()}, glm::vec3(0.0f), kSize, kSize, still);
+  const Noise first_played = noise_of(played, converged, moved_penumbra),
+              own = noise_of(one_frame, converged, moved_penumbra);
+  std::printf("moved penumbra: %d pixels; RMS from 256 frames: one frame of its own %.4f, first playback frame %.4f "
+              "(%.2f of it)\n", own.pixels, own.per_pixel, first_played.per_pixel, first_played.per_pixel / own.per_pixel);
+  ASSERT_GT(own.pixels, 40);
+  ASSERT_GT(own.per_pixel, 0.02) << "a frame of its own is noisy enough to tell";
+  EXPECT_LT(first_played.per_pixel, 0.5 * own.per_pixel);
+  // (the marked pixels: at least the moved penumbra, and not the whole image)
+  std::printf("marked short of history: %.3f of the image\n", marked);
+  EXPECT_GE(marked, double(own.pixels) / double(kSize * kSize));
+  EXPECT_LT(marked, 0.5);
+}
+
 // A step of two_cubes: the first cube at (x, 1), the second at (-0.5, y),
 // then `frames` frames.
 struct CubesStep {
