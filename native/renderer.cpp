@@ -231,6 +231,8 @@ void Renderer::validate(int width, int height, const RenderSettings& settings) c
     throw Error("shadow_epsilon and max_step must be positive");
   if (settings.shadow_map_size < 64 || settings.shadow_map_size > 4096) throw Error("shadow_map_size must be 64 to 4096");
   if (settings.exact_rays < 0 || settings.exact_rays > 64) throw Error("exact_rays must be 0 (none) to 64");
+  if (settings.short_history_rays < 1 || settings.short_history_rays > 16)
+    throw Error("short_history_rays must be 1 (as many as exact_rays) to 16");
   if (!(settings.field_budget_mb >= 1.0 && settings.field_budget_mb <= 1e7))
     throw Error("field_budget_mb must be 1 to 10^7 MiB");
 }
@@ -512,6 +514,7 @@ void Renderer::begin(GpuScene& scene, const Camera& camera, const std::vector<Li
   if (method.exact_rays && settings.exact_rays > 0 && has_casters_) {
     push_.visibility_mode = gpu::kVisibilityHybrid;
     push_.exact_rays = uint32_t(settings.exact_rays);
+    push_.short_history_rays = uint32_t(settings.short_history_rays);
     scene.ray_structures();  // (built now, not in a frame)
   }
   if (method.visibility == gpu::kVisibilityUnsignedSdf) {

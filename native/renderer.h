@@ -90,6 +90,12 @@ struct RenderSettings {
   // frame through the casters' BVHs decide instead (0: the field's cone
   // estimate everywhere, as in the paper).
   int exact_rays = 0;
+  // ... and in the first frame after a change, this many times as many
+  // where history may stand for one sample or none (a moved shadow on a
+  // surface that stays, an uncovered one): there the frame shown is mostly
+  // that sample. 1: as in any frame (on scenes whose exact rays are many and
+  // costly, such as dense CAD, the faster playback).
+  int short_history_rays = 4;
   int samples = 16;              // accumulation frames (sub-pixel and shadow-origin jitter each)
   // Pixel filter: Blackman-Harris, this wide in pixels (Blender's Filter Size,
   // Cycles' default filter and width), sampled by each frame's sub-pixel
@@ -145,6 +151,7 @@ void visit_settings(Settings& settings, Visit&& visit) {
   visit("shadow_map_size", settings.shadow_map_size);
   visit("field_view_height", settings.field_view_height);
   visit("exact_rays", settings.exact_rays);
+  visit("short_history_rays", settings.short_history_rays);
   visit("coarse_resolution", settings.coarse_resolution);
   visit("fine_resolution", settings.fine_resolution);
   visit("beta", settings.beta);
@@ -193,7 +200,7 @@ struct RenderStats {
   // The share of the image whose history the last frame's keep pass found
   // may stand for one sample or none (a moved shadow on a still surface, a
   // disocclusion): there its exact rays were more (shaders/shared.h,
-  // kShortHistoryRays). 0 where no keep pass ran.
+  // short_history_rays). 0 where no keep pass ran.
   double short_history_share = 0.0;
 };
 

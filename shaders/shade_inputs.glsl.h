@@ -184,14 +184,14 @@ float rays_to_light(LightPath path, vec3 p, vec3 n, ivec2 pixel, int count) {
   return reached / float(count);
 }
 
-// The exact rays per light at `pixel`: pc.exact_rays, kShortHistoryRays
+// The exact rays per light at `pixel`: pc.exact_rays, pc.short_history_rays
 // times as many where the keep pass marked history short. There the frame
 // shown is half this sample or all of it, and a share of 4 binary rays (0,
 // 1/4, ... 1) made a moved penumbra speckled where the still frame, 16
 // samples of 4, is smooth (docs/benchmarks.md).
 int exact_rays_at(ivec2 pixel) {
   bool short_history = pc.kept_history == 1u && imageLoad(accum_passes, pixel).z == kShortHistorySample;
-  return int(pc.exact_rays) * (short_history ? int(kShortHistoryRays) : 1);
+  return int(pc.exact_rays) * (short_history ? int(pc.short_history_rays) : 1);
 }
 
 // The share of a light reaching a receiver (held by a field of world voxel

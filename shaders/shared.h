@@ -204,12 +204,12 @@ const float kNearbyHistorySamples = 3.0;
 const float kKeptSample = -1.0;
 // accum_passes.z of a pixel the keep pass did not keep and whose history may
 // stand for one sample or none (history_may_be_short): the shown frame is
-// then mostly this frame's sample, and its exact rays are kShortHistoryRays
-// times as many (shade_inputs.glsl.h, exact_rays_at). The keep pass counts
-// them in the tile words' kShortHistoryCountWord (the pixel tiles' indirect
-// dispatch's fourth word), for RenderStats::short_history_share.
+// then mostly this frame's sample, and its exact rays are
+// ShadePush::short_history_rays times as many (shade_inputs.glsl.h,
+// exact_rays_at). The keep pass counts them in the tile words'
+// kShortHistoryCountWord (the pixel tiles' indirect dispatch's fourth
+// word), for RenderStats::short_history_share.
 const float kShortHistorySample = -2.0;
-const uint kShortHistoryRays = 4u;
 const uint kShortHistoryCountWord = 3u;
 // Where a still pixel is in contact with the casters that moved (and is
 // shaded anew): within this share of their box's diagonal of the box
@@ -306,6 +306,8 @@ struct ShadePush {
   float field_view_height;       // the distance slice's world z
   float sky_receiver_clearance;  // ... and the sky's cones
   uint kept_history;             // 1: the temporal keep pass ran; pixels marked kKeptSample are not shaded
+  uint short_history_rays;       // ... and those marked kShortHistorySample take this many times exact_rays
+  uint pad0;                     // (the block's size a multiple of its vec2's 8 bytes, as in GLSL)
 };
 
 // Views of the distance fields in place of the shaded image (ShadePush::field_view; field_views.glsl.h).
@@ -352,7 +354,7 @@ static_assert(sizeof(GpuLight) == 64, "GpuLight layout");
 static_assert(sizeof(FrameData) == 112 + 32 * kMaxSkyBlockers + 4 * 64 + 6 * 16, "FrameData layout");
 static_assert(sizeof(GBufferPush) == 128, "GBufferPush layout");
 static_assert(sizeof(GpuMaterial) == 32, "GpuMaterial layout");
-static_assert(sizeof(ShadePush) == 96, "ShadePush layout");
+static_assert(sizeof(ShadePush) == 104, "ShadePush layout");
 // (a vec2 sits on 8 bytes in GLSL's push-constant layout: its offset must agree)
 static_assert(offsetof(ShadePush, evsm_exponents) == 64 && offsetof(ShadePush, field_view) == 80, "ShadePush offsets");
 static_assert(sizeof(TemporalPush) == 48, "TemporalPush layout");

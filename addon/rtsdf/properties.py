@@ -37,9 +37,14 @@ class RTSDFSettings(bpy.types.PropertyGroup):
         name="Exact Rays", default=4, min=0, max=64,
         description="RTSDF methods: where the field cannot tell lit from shadowed with Epsilon to spare (penumbrae, "
                     "contact, leaf cards and walls thinner than a voxel), this many rays per light and sample through "
-                    "the meshes decide instead: shadows converge to the exact ones over the samples (4x as many "
-                    "while playing, where a moved shadow has no history yet). 0: the field's "
+                    "the meshes decide instead: shadows converge to the exact ones over the samples. 0: the field's "
                     "cone estimate everywhere, as in the paper (no noise while playing, less accurate)")
+    short_history_rays: IntProperty(
+        name="Exact Rays While Playing", default=4, min=1, max=16,
+        description="In the frame after a change (playing, dragging, an animation render that carries history), "
+                    "Exact Rays are this many times as many where a moved shadow falls on a still surface or a "
+                    "surface was uncovered: there that one frame is most of what shows. Higher: smoother moving "
+                    "shadows; 1: faster playback where exact rays are many and costly (dense CAD)")
     shadow_map_size: IntProperty(
         name="Shadow Map Size", default=1024, min=64, max=4096,
         description="Shadow-map methods: texels per side of each cascade (sun), spot light view or cube face. "

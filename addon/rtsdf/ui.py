@@ -128,6 +128,9 @@ class RTSDF_PT_shadows(RenderPanel, bpy.types.Panel):
         row.active = settings.shadow_method in SDF_METHODS
         row.prop(settings, "exact_rays", text="Exact Rays")
         row = layout.row()
+        row.active = settings.shadow_method in SDF_METHODS and settings.exact_rays > 0
+        row.prop(settings, "short_history_rays", text="While Playing")
+        row = layout.row()
         row.active = settings.shadow_method in SHADOW_MAP_METHODS
         row.prop(settings, "shadow_map_size", text="Map Size")
 

@@ -156,6 +156,18 @@ class NativeModuleInBlender(unittest.TestCase):
             with self.assertRaisesRegex(rtsdf_native.Error, "shadow_map_size must be 64 to 4096"):
                 viewport.draw(view, {"shadow_method": "csm_evsm", "shadow_map_size": size, "samples": 1})
 
+    def test_exact_rays_while_playing_outside_the_panels_range_are_refused(self):
+        # The panel offers 1 to 16 times the exact rays; the native side takes the same range.
+        scene = cube_scene()
+        viewport = rtsdf_native.Session().viewport()
+        viewport.sync(scene)
+        view = {key: scene[key] for key in ("camera", "lights", "ambient", "width", "height")}
+        for rays in (1, 16):
+            viewport.draw(view, {"exact_rays": 4, "short_history_rays": rays, "samples": 1})
+        for rays in (0, 17):
+            with self.assertRaisesRegex(rtsdf_native.Error, "short_history_rays must be 1"):
+                viewport.draw(view, {"exact_rays": 4, "short_history_rays": rays, "samples": 1})
+
     def test_bad_input_raises(self):
         with self.assertRaises(rtsdf_native.Error):
             rtsdf_native.coarse_sdf(np.zeros((3, 3), np.float32), np.zeros((0, 3), np.uint32), 32, 0.5)
