@@ -199,8 +199,8 @@ struct RenderStats {
   double drawn_share = 0.0;
   // The share of the image whose history the last frame's keep pass found
   // may stand for one sample or none (a moved shadow on a still surface, a
-  // disocclusion): there its exact rays were more (shaders/shared.h,
-  // short_history_rays). 0 where no keep pass ran.
+  // disocclusion): there its exact rays, if any, were short_history_rays
+  // times as many (shaders/shared.h). 0 where no keep pass ran.
   double short_history_share = 0.0;
 };
 
