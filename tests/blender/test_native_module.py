@@ -144,29 +144,26 @@ class NativeModuleInBlender(unittest.TestCase):
         viewport.set_mesh_geometry(0, flipped)
         self.assertEqual(viewport.draw(view, settings)["stats"]["fields_regenerated"], 1)
 
-    def test_shadow_map_sizes_outside_the_panels_range_are_refused(self):
-        # The panel offers 64 to 4096 texels; the native side takes the same range.
+    def assert_panel_range_is_the_native_one(self, name, valid, refused, message, **others):
+        """The panel offers `valid`'s values as its range ends; the native side takes them and refuses
+        `refused`'s with `message`."""
         scene = cube_scene()
         viewport = rtsdf_native.Session().viewport()
         viewport.sync(scene)
         view = {key: scene[key] for key in ("camera", "lights", "ambient", "width", "height")}
-        for size in (64, 4096):
-            viewport.draw(view, {"shadow_method": "csm_evsm", "shadow_map_size": size, "samples": 1})
-        for size in (32, 8192):
-            with self.assertRaisesRegex(rtsdf_native.Error, "shadow_map_size must be 64 to 4096"):
-                viewport.draw(view, {"shadow_method": "csm_evsm", "shadow_map_size": size, "samples": 1})
+        for value in valid:
+            viewport.draw(view, {name: value, "samples": 1, **others})
+        for value in refused:
+            with self.assertRaisesRegex(rtsdf_native.Error, message):
+                viewport.draw(view, {name: value, "samples": 1, **others})
+
+    def test_shadow_map_sizes_outside_the_panels_range_are_refused(self):
+        self.assert_panel_range_is_the_native_one("shadow_map_size", (64, 4096), (32, 8192),
+                                                  "shadow_map_size must be 64 to 4096", shadow_method="csm_evsm")
 
     def test_exact_rays_while_playing_outside_the_panels_range_are_refused(self):
-        # The panel offers 1 to 16 times the exact rays; the native side takes the same range.
-        scene = cube_scene()
-        viewport = rtsdf_native.Session().viewport()
-        viewport.sync(scene)
-        view = {key: scene[key] for key in ("camera", "lights", "ambient", "width", "height")}
-        for rays in (1, 16):
-            viewport.draw(view, {"exact_rays": 4, "short_history_rays": rays, "samples": 1})
-        for rays in (0, 17):
-            with self.assertRaisesRegex(rtsdf_native.Error, "short_history_rays must be 1"):
-                viewport.draw(view, {"exact_rays": 4, "short_history_rays": rays, "samples": 1})
+        self.assert_panel_range_is_the_native_one("short_history_rays", (1, 16), (0, 17),
+                                                  "short_history_rays must be 1", exact_rays=4)
 
     def test_bad_input_raises(self):
         with self.assertRaises(rtsdf_native.Error):
