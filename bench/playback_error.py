@@ -3,6 +3,7 @@
 number of exact rays.
 
 usage: bench/playback_error.py WORK_DIR SCENE[,SCENE...] [--exact-rays N[,N...]]
+                               [--short-history-rays K]
 
 WORK_DIR is a bench/run output's work directory (DIR/work: each scene's
 scene.pkl and Cycles references). bench/run's playback column plays its
@@ -11,12 +12,18 @@ viewport draws with the scene's Exact Rays (4 by default). For each scene
 and each N (default 0 and 4) this plays bench/run's move with temporal
 reuse (playback_frames), renders the still frame of the last pose, and
 prints bench/run's playback figures (playback_figures): the playback
-frame's shadow RMSE against Cycles and its ratio to the still frame's.
+frame's shadow RMSE against Cycles and its ratio to the still frame's;
+then what sets the two frames apart over the shadowed pixels, split into
+lag (its smooth part: a shadow left behind or not yet arrived) and noise
+(the rest). --short-history-rays sets the factor on the exact rays where
+history is short (the native default, 4, otherwise; 1: as in any frame).
 """
 import argparse
 import importlib.machinery
 import importlib.util
 import os
+
+import numpy as np
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 _loader = importlib.machinery.SourceFileLoader("bench_run", os.path.join(HERE, "run"))
@@ -25,11 +32,23 @@ bench = importlib.util.module_from_spec(_spec)
 _loader.exec_module(bench)
 
 
+def lag_and_noise(played, still, refs, window=7):
+    """The RMS over Cycles' shadowed pixels of the playback frame's difference
+    from the still frame, split into its smooth part (a window x window box
+    mean) and the rest."""
+    metrics = bench.metrics
+    shadowed = metrics.visibility(refs["after_shadowed"], refs["after_unshadowed"]) < metrics.SHADOWED_BELOW
+    difference = np.where(shadowed, played.mean(axis=-1) - still.mean(axis=-1), 0.0)
+    smooth = metrics.box_mean(np.pad(difference, window // 2, mode="edge"), window)
+    return float(np.sqrt(np.mean(smooth[shadowed] ** 2))), float(np.sqrt(np.mean((difference - smooth)[shadowed] ** 2)))
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("work")
     parser.add_argument("scenes")
     parser.add_argument("--exact-rays", default="0,4", help="exact rays per light and sample, comma-separated")
+    parser.add_argument("--short-history-rays", type=int, help="the factor on the exact rays where history is short")
     args = parser.parse_args()
     session = bench.sessions()[0]
     _, preview = bench.sweep("rtsdf", True, True)[0]
@@ -40,12 +59,16 @@ def main():
             continue
         for rays in (int(n) for n in args.exact_rays.split(",")):
             settings = dict(preview, exact_rays=rays)
+            if args.short_history_rays is not None:
+                settings["short_history_rays"] = args.short_history_rays
             session.forget_fields()
             played = bench.playback_frames(session, data, settings, temporal_reuse=True)
             still = session.render(data["after"], settings)["combined"][..., :3]
             figures = bench.playback_figures(played, still, refs)
+            lag, noise = lag_and_noise(played[-1], still, refs)
             print(f"{scene}: exact rays {rays}: playback frame shadow RMSE {figures['playback_rmse']}, "
-                  f"{figures['playback_ratio']}x the still frame's ({session.device})", flush=True)
+                  f"{figures['playback_ratio']}x the still frame's; from the still frame, lag {lag:.4f}, "
+                  f"noise {noise:.4f} ({session.device})", flush=True)
 
 if __name__ == "__main__":
     main()

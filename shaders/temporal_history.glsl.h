@@ -229,7 +229,7 @@ bool history_may_be_short(History h) { return h.disoccluded || (h.shadow_may_mov
 // every pixel was a cost added to one the resolve paid again. The point's
 // depth from the last camera is the G-buffer motion's z, read again.
 const uint kHistoryDisoccluded = 1u, kHistoryFrontMoved = 2u, kHistoryStill = 4u, kHistoryAway = 8u,
-           kHistoryShadowMayMove = 16u, kHistoryStays = 32u;
+           kHistoryShadowMayMove = 16u;
 
 // A pixel's resolved accumulation, as a temporal pass decides it and then
 // writes it, each image once: on lavapipe every image access in a shader's
@@ -244,7 +244,7 @@ struct Resolved {
 Resolved history_handed_on(History h) {
   uint flags = (h.disoccluded ? kHistoryDisoccluded : 0u) | (h.front_moved ? kHistoryFrontMoved : 0u) |
                (h.still ? kHistoryStill : 0u) | (h.away ? kHistoryAway : 0u) |
-               (h.shadow_may_move ? kHistoryShadowMayMove : 0u) | (h.stays ? kHistoryStays : 0u);
+               (h.shadow_may_move ? kHistoryShadowMayMove : 0u);
   return Resolved(vec4(h.color.rgb, float(flags)), vec4(h.shadow, h.samples, h.nearest, h.farthest), vec4(0.0));
 }
 
@@ -265,7 +265,7 @@ History handed_history(ivec2 pixel) {
   h.previous_depth = imageLoad(g_motion, pixel).z;
   h.on_ray = vec3(0.0);  // (likewise)
   h.front_moved = (flags & kHistoryFrontMoved) != 0u;
-  h.stays = (flags & kHistoryStays) != 0u;
+  h.stays = false;  // (only the keep pass reads it, history_may_be_short)
   h.still = (flags & kHistoryStill) != 0u;
   h.away = (flags & kHistoryAway) != 0u;
   h.shadow_may_move = (flags & kHistoryShadowMayMove) != 0u;
