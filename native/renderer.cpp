@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstring>
+#include <glm/gtc/matrix_access.hpp>
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "shadow_casters.h"
@@ -51,6 +52,27 @@ float halton(uint32_t index, uint32_t base) {
   float f = 1.0f, r = 0.0f;
   for (uint32_t i = index + 1; i > 0; i /= base) f /= float(base), r += f * float(i % base);
   return r;
+}
+
+// The shadow casters placed elsewhere since the last frame (`motions`, per
+// instance: world_motions), for the temporal passes to follow their shadows
+// (FrameData::shadow_movers): none where more than the frame holds moved.
+void put_shadow_movers(const GpuScene& scene, const std::vector<glm::mat4>& motions, gpu::FrameData& frame) {
+  uint32_t count = 0;
+  for (uint32_t i = 0; i < motions.size(); ++i) {
+    if (motions[i] == glm::mat4(1.0f) || !scene.scene().instances[i].casts_shadow) continue;
+    if (count == gpu::kMaxShadowMovers) {
+      frame.shadow_mover_count = glm::uvec4(0u);
+      return;
+    }
+    const Bounds box = scene.scene().world_bounds({i}, scene.mesh_extents());
+    if (box.is_empty()) continue;
+    glm::vec4* words = &frame.shadow_movers[gpu::kShadowMoverWords * count++];
+    words[0] = glm::vec4(box.lo, 0.0f);
+    words[1] = glm::vec4(box.hi, 0.0f);
+    for (int row = 0; row < 3; ++row) words[2 + row] = glm::row(motions[i], row);
+  }
+  frame.shadow_mover_count = glm::uvec4(count, 0u, 0u, 0u);
 }
 
 }  // namespace
@@ -452,6 +474,7 @@ void Renderer::begin(GpuScene& scene, const Camera& camera, const std::vector<Li
   std::vector<glm::mat4> transforms;
   for (const Instance& instance : scene.instances()) transforms.push_back(instance.object_to_world);
   instance_motions_ = world_motions(has_history_ ? drawn_transforms_ : transforms, transforms);
+  put_shadow_movers(scene, instance_motions_, frame_data_);
   if (has_history_ && scene_changed && last_changes_) {
     auto put = [](const Bounds& box, glm::vec4& lo, glm::vec4& hi) {
       lo = glm::vec4(box.lo, 1.0f), hi = glm::vec4(box.hi, 1.0f);

@@ -121,6 +121,10 @@ struct GpuLight {
 // buffer's one load).
 const uint kMaxSkyBlockers = 8u;
 
+// The casters whose moved shadows the temporal passes follow, at most (FrameData::shadow_movers).
+const uint kMaxShadowMovers = 8u;
+const uint kShadowMoverWords = 5u;
+
 struct FrameData {
   mat4 world_to_clip;   // jittered by a sub-pixel offset per accumulation frame
   vec4 camera_position; // xyz; w = 1 for orthographic cameras
@@ -149,6 +153,15 @@ struct FrameData {
   // The inverse of steady_world_to_clip, made in double precision (where the
   // temporal passes' background pixels look from).
   mat4 steady_clip_to_world;
+  // The shadow casters placed elsewhere since the last frame (moved, turned
+  // or scaled), kShadowMoverWords vec4s each: the world box each holds now
+  // (lo, hi), then the three rows of its world_to_previous_world (where a
+  // point of it now was). A shadow they cast moved with them: its history
+  // is where their shadow was (temporal_history.glsl.h, follow_shadow).
+  // shadow_mover_count.x of them; 0 where none moved, or more than
+  // kMaxShadowMovers did.
+  vec4 shadow_movers[kShadowMoverWords * kMaxShadowMovers];
+  uvec4 shadow_mover_count;
 };
 
 // What a G-buffer pixel holds (its position's w, and GBufferPush.base_color.w).
@@ -351,7 +364,8 @@ struct ShadowMapPush {
 static_assert(sizeof(BvhNode) == 48, "BvhNode layout");
 static_assert(sizeof(WindingDipole) == 32, "WindingDipole layout");
 static_assert(sizeof(GpuLight) == 64, "GpuLight layout");
-static_assert(sizeof(FrameData) == 112 + 32 * kMaxSkyBlockers + 4 * 64 + 6 * 16, "FrameData layout");
+static_assert(sizeof(FrameData) == 112 + 32 * kMaxSkyBlockers + 4 * 64 + 6 * 16 + 16 * kShadowMoverWords * kMaxShadowMovers + 16,
+              "FrameData layout");
 static_assert(sizeof(GBufferPush) == 128, "GBufferPush layout");
 static_assert(sizeof(GpuMaterial) == 32, "GpuMaterial layout");
 static_assert(sizeof(ShadePush) == 104, "ShadePush layout");

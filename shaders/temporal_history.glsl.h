@@ -5,8 +5,9 @@
 // (temporal_keep.comp) keeps the pixels whose history stands whatever this
 // frame's sample, before any shading, and the resolve
 // (temporal_resolve.comp) decides the rest with the sample.
-// Needs: the TemporalPush `pc`, g_position, g_motion, history_color,
-// history_passes, resolved_color and resolved_passes (History handed on),
+// Needs: the TemporalPush `pc`, g_position, g_motion, g_normal, g_albedo,
+// history_color, history_passes, resolved_color, resolved_passes and
+// resolved_moments (History handed on),
 // the Frame buffer `frame`, the lights and the tile lists `tile_words`
 // (kept_tiles.glsl.h).
 #include "ray_box.glsl.h"
@@ -101,7 +102,100 @@ struct History {
   bool still;            // full history where it was on screen, nothing moved in front of it, same lighting
   bool away;             // the background, or beyond contact with the changed box (in_contact_with_change)
   bool shadow_may_move;  // a path to a light crosses the box of the casters that moved
+  // History where the shadow now on this point was (follow_shadow): its
+  // Combined (with this pixel's albedo), Shadow pass and samples (0: none found).
+  vec3 followed_color;
+  float followed_shadow;
+  float followed_samples;
 };
+
+// The first of the casters that moved (frame.shadow_movers) on the path
+// from p to a light (to_light, up to t_max), each one's box grown by the
+// light's cone there as in light_path_crosses_change; -1: none. `span`:
+// where the path is in its box.
+int first_mover_on_path(vec3 p, vec3 to_light, float t_max, GpuLight light, bool sun, out vec2 span) {
+  int first = -1;
+  for (uint i = 0u; i < frame.shadow_mover_count.x; ++i) {
+    vec3 lo = frame.shadow_movers[kShadowMoverWords * i].xyz, hi = frame.shadow_movers[kShadowMoverWords * i + 1u].xyz;
+    vec3 centre = 0.5 * (lo + hi);
+    float cone = sun ? light.direction.w * (distance(p, centre) + length(hi - centre)) : light.direction.w;
+    vec2 s = ray_box_span(p, safe_inverse(to_light), lo - cone, hi + cone);
+    s = vec2(max(s.x, 0.0), min(s.y, t_max));
+    if (s.x <= s.y && (first < 0 || s.x < span.x)) first = int(i), span = s;
+  }
+  return first;
+}
+
+// Where a moved shadow's history is. A caster that moved rigidly carries its
+// shadow with it: the light's path from p passes the caster at b, which was
+// at b_before (its world_to_previous_world), and the shadow now at p was
+// then where the light's path through b_before met p's surface. History
+// there (its tangent plane at p, read where the last camera saw it, on the
+// same surface) is this shadow's, with the samples it gathered: a moved
+// shadow need not start over from one sample, as the receiver's own history
+// (a shadow that has left) has it. b is the middle of the path's stretch in
+// the caster's box: exact for a caster that only moved along (the shadow
+// on a plane then moves by the same offset wherever b is), an estimate for
+// one that turned, which the resolve's neighbourhood clip bounds. Only for
+// a receiver where it was on screen, under the same lights, with one light's
+// path past what moved (two lights' shadows move apart).
+void follow_shadow(ivec2 pixel, vec3 p, inout History h) {
+  h.followed_samples = 0.0;
+  if (frame.shadow_mover_count.x == 0u || !h.stays || pc.same_lighting != 1u) return;
+  int crossing = -1;
+  for (int l = 0; l < pc.light_count; ++l)
+    if (light_path_crosses_change(p, l)) {
+      if (crossing >= 0) return;
+      crossing = l;
+    }
+  if (crossing < 0) return;
+  GpuLight light = lights[crossing];
+  bool sun = uint(light.position.w) == kLightSun;
+  vec3 to_light = sun ? -light.direction.xyz : light.position.xyz - p;
+  vec2 span;
+  int mover = first_mover_on_path(p, to_light, sun ? 1e30 : 1.0, light, sun, span);
+  if (mover < 0) return;
+  uint words = kShadowMoverWords * uint(mover);
+  vec4 b = vec4(p + to_light * (0.5 * (span.x + span.y)), 1.0);
+  vec3 b_before = vec3(dot(frame.shadow_movers[words + 2u], b), dot(frame.shadow_movers[words + 3u], b),
+                       dot(frame.shadow_movers[words + 4u], b));
+  // The path from the light through b_before, onto p's tangent plane.
+  vec3 n = imageLoad(g_normal, pixel).xyz, away = sun ? light.direction.xyz : b_before - light.position.xyz;
+  float along = dot(n, away);
+  if (abs(along) < 1e-3 * length(away)) return;
+  vec3 p_before = b_before + away * (dot(n, p - b_before) / along);
+  vec4 clip = frame.previous_world_to_clip * vec4(p_before, 1.0);
+  if (clip.w <= 0.0) return;
+  float depth_before = dot(p_before - frame.previous_camera_position.xyz, frame.previous_camera_forward.xyz);
+  // Read bilinearly, as light (colour over albedo) from texels on the same
+  // surface that saw that depth: the albedo is this pixel's, not the one
+  // the shadow fell on.
+  vec2 at = (clip.xy / clip.w * 0.5 + 0.5) * vec2(pc.image_size) - 0.5;
+  ivec2 base = ivec2(floor(at));
+  vec2 f = at - vec2(base);
+  vec3 light_sum = vec3(0.0);
+  float shadow = 0.0, samples = 1e30, weights = 0.0;
+  for (int k = 0; k < 4; ++k) {
+    ivec2 corner = base + ivec2(k & 1, k >> 1);
+    if (any(lessThan(corner, ivec2(0))) || any(greaterThanEqual(corner, pc.image_size))) continue;
+    vec2 bilinear = mix(1.0 - f, f, vec2(k & 1, k >> 1));
+    float w = bilinear.x * bilinear.y;
+    vec4 before = imageLoad(history_passes, corner);
+    vec3 albedo = imageLoad(g_albedo, corner).rgb;
+    if (w <= 0.0 || !saw_depth(before, depth_before) || any(lessThan(albedo, vec3(1e-3))) ||
+        abs(dot(imageLoad(g_normal, corner).xyz, n)) < 0.9)
+      continue;
+    light_sum += w * imageLoad(history_color, corner).rgb / albedo;
+    shadow += w * before.y;
+    samples = min(samples, before.z);
+    weights += w;
+  }
+  vec3 albedo = imageLoad(g_albedo, pixel).rgb;
+  if (weights < 0.5 || any(lessThan(albedo, vec3(1e-3)))) return;  // (half of it elsewhere: not this surface's)
+  h.followed_color = light_sum / weights * albedo;
+  h.followed_shadow = shadow / weights;
+  h.followed_samples = min(samples, float(pc.history_samples));
+}
 
 // The history of `pixel` (its G-buffer position `position`).
 History find_history(ivec2 pixel, vec4 position) {
@@ -118,6 +212,9 @@ History find_history(ivec2 pixel, vec4 position) {
   h.still = false;
   h.away = true;
   h.shadow_may_move = false;
+  h.followed_color = vec3(0.0);
+  h.followed_shadow = 0.0;
+  h.followed_samples = 0.0;
   vec4 motion = imageLoad(g_motion, pixel);
   h.previous_depth = motion.z;
   h.on_ray = position.xyz;
@@ -200,6 +297,7 @@ History find_history(ivec2 pixel, vec4 position) {
   h.still = pc.same_lighting == 1u && min(h.full_samples, float(pc.history_samples)) >= float(pc.history_samples) &&
             !h.front_moved && h.stays;
   h.away = background || !in_contact_with_change(position.xyz);
+  if (h.shadow_may_move) follow_shadow(pixel, position.xyz, h);
   return h;
 }
 
@@ -219,7 +317,11 @@ bool settled_before_sample(History h) {
 // history moves with it, and more rays there too (the engine sample's
 // moving part) made a playback step's quad pass 1.7x as long for the same
 // error of the frame shown.
-bool history_may_be_short(History h) { return h.disoccluded || (h.shadow_may_move && h.stays); }
+// A moved shadow followed (follow_shadow) to history of more samples is not short.
+const float kFollowedHistoryNotShort = 4.0;
+bool history_may_be_short(History h) {
+  return h.disoccluded || (h.shadow_may_move && h.stays);
+}
 
 // The keep pass hands each pixel it did not keep its History, in the
 // resolved images (free until the resolve writes them), so that the resolve
@@ -228,8 +330,11 @@ bool history_may_be_short(History h) { return h.disoccluded || (h.shadow_may_mov
 // few tiles were whole (a tree's canopy) the keep pass's search over
 // every pixel was a cost added to one the resolve paid again. The point's
 // depth from the last camera is the G-buffer motion's z, read again.
+// The followed shadow's history (follow_shadow) goes in the resolved
+// moments (Combined, Shadow pass) and its samples in the flags' word above
+// kHistoryFollowedShift.
 const uint kHistoryDisoccluded = 1u, kHistoryFrontMoved = 2u, kHistoryStill = 4u, kHistoryAway = 8u,
-           kHistoryShadowMayMove = 16u;
+           kHistoryShadowMayMove = 16u, kHistoryFollowedShift = 8u;
 
 // A pixel's resolved accumulation, as a temporal pass decides it and then
 // writes it, each image once: on lavapipe every image access in a shader's
@@ -244,8 +349,9 @@ struct Resolved {
 Resolved history_handed_on(History h) {
   uint flags = (h.disoccluded ? kHistoryDisoccluded : 0u) | (h.front_moved ? kHistoryFrontMoved : 0u) |
                (h.still ? kHistoryStill : 0u) | (h.away ? kHistoryAway : 0u) |
-               (h.shadow_may_move ? kHistoryShadowMayMove : 0u);
-  return Resolved(vec4(h.color.rgb, float(flags)), vec4(h.shadow, h.samples, h.nearest, h.farthest), vec4(0.0));
+               (h.shadow_may_move ? kHistoryShadowMayMove : 0u) | (uint(h.followed_samples) << kHistoryFollowedShift);
+  return Resolved(vec4(h.color.rgb, float(flags)), vec4(h.shadow, h.samples, h.nearest, h.farthest),
+                  vec4(h.followed_color, h.followed_shadow));
 }
 
 #ifdef RTSDF_TAKES_HISTORY
@@ -269,6 +375,10 @@ History handed_history(ivec2 pixel) {
   h.still = (flags & kHistoryStill) != 0u;
   h.away = (flags & kHistoryAway) != 0u;
   h.shadow_may_move = (flags & kHistoryShadowMayMove) != 0u;
+  vec4 followed = imageLoad(resolved_moments, pixel);
+  h.followed_color = followed.rgb;
+  h.followed_shadow = followed.a;
+  h.followed_samples = float(flags >> kHistoryFollowedShift);
   return h;
 }
 #endif

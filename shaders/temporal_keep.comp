@@ -29,6 +29,8 @@ layout(std430, binding = 7) readonly buffer Lights { GpuLight lights[]; };
 layout(binding = 8, rgba32f) uniform writeonly image2D resolved_color;
 layout(binding = 9, rgba32f) uniform writeonly image2D resolved_passes;
 layout(std430, binding = 10) buffer Tiles { uint tile_words[]; };
+layout(binding = 11, rgba32f) uniform readonly image2D g_normal;
+layout(binding = 12, rgba32f) uniform readonly image2D g_albedo;
 layout(binding = 13, rgba32f) uniform readonly image2D history_moments;
 layout(binding = 14, rgba32f) uniform writeonly image2D resolved_moments;
 // The tiles it runs over, a work group each (x + tiles across * y).
@@ -55,12 +57,12 @@ void main() {
   float seen = seen_depth(position);
   imageStore(resolved_color, pixel, r.color);
   imageStore(resolved_passes, pixel, r.passes);
+  imageStore(resolved_moments, pixel, r.moments);
   bool short_history = !kept && history_may_be_short(h);
   float mark = kept ? kKeptSample : (short_history ? kShortHistorySample : 0.0);
   if (short_history) atomicAdd(tile_words[kShortHistoryCountWord], 1u);
   imageStore(accum_passes, pixel, kept ? vec4(seen, h.shadow, mark, seen) : vec4(0.0, 0.0, mark, 0.0));
   if (kept) {
-    imageStore(resolved_moments, pixel, r.moments);
     imageStore(accum_color, pixel, h.color);
   } else {
     list_tile(pixel_tiles(), tile);  // (for the pixel passes and the resolve; the next step's region holds them)

@@ -51,7 +51,7 @@ layout(std430, binding = 10) readonly buffer Tiles { uint tile_words[]; };
 layout(binding = 11, rgba32f) uniform readonly image2D g_normal;
 layout(binding = 12, rgba32f) uniform readonly image2D g_albedo;
 layout(binding = 13, rgba32f) uniform readonly image2D history_moments;
-layout(binding = 14, rgba32f) uniform writeonly image2D resolved_moments;
+layout(binding = 14, rgba32f) uniform image2D resolved_moments;  // (listed tiles: the followed shadow's history, handed on)
 #include "sample_moments.glsl.h"
 #include "same_surface.glsl.h"
 #define RTSDF_TAKES_HISTORY
@@ -121,6 +121,19 @@ Resolved resolve(ivec2 pixel, vec4 position, vec4 current, vec4 passes, History 
   if (surface && (h.disoccluded || h.shadow_may_move || !h.still || !h.away))
     current.rgb = filtered_sample(pixel, position.xyz, current.rgb, shadow);
   if (h.disoccluded) return Resolved(current, passes, sample_second);  // (where history cannot help: this sample alone)
+  // A moved shadow followed to where it was (follow_shadow) stands for its
+  // own samples, clipped as a moving surface's history is. It is taken where
+  // its Shadow pass is nearer this frame's (filtered) than the receiver's own
+  // history's: a shadow that did not move (another caster's, whose path
+  // passes the box of what moved) keeps that.
+  bool followed = h.shadow_may_move && h.followed_samples > 0.0 &&
+                  abs(shadow - h.followed_shadow) < abs(shadow - h.shadow);
+  if (followed) {
+    h.color.rgb = h.followed_color;
+    h.shadow = h.followed_shadow;
+    h.samples = h.followed_samples;
+    h.still = false;
+  }
   // History's second moments: a still pixel's are its own texel's (it
   // stays where it was on screen); a moving pixel's samples' spread is not
   // carried (its neighbourhood alone judges their noise).
@@ -129,7 +142,7 @@ Resolved resolve(ivec2 pixel, vec4 position, vec4 current, vec4 passes, History 
   // against history's. The box of what moved is a bound: most pixels whose
   // light paths cross it keep their shadow, and taking half of each frame's
   // new sample there made them shimmer.
-  bool shadow_moved = h.shadow_may_move && abs(shadow - h.shadow) >= kSameShadow;
+  bool shadow_moved = h.shadow_may_move && !followed && abs(shadow - h.shadow) >= kSameShadow;
   bool still = h.still && !shadow_moved;
   if (still && h.away) return settled(pixel);
 

@@ -15,7 +15,7 @@ namespace {
 constexpr VkDescriptorType kImage = VK_DESCRIPTOR_TYPE_STORAGE_IMAGE;
 constexpr VkDescriptorType kBuffer = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
 constexpr VkDescriptorType kUniform = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
-// Both passes' (temporal_keep.comp declares fewer of them: the surface's normal and albedo are the resolve's).
+// Both passes' (the resolve's and the keep pass's).
 const std::vector<VkDescriptorType> kBindings = {kImage, kImage,  kImage, kImage, kImage, kImage, kUniform, kBuffer,
                                                  kImage, kImage,  kBuffer, kImage, kImage, kImage, kImage, kBuffer};
 }  // namespace
