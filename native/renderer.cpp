@@ -56,23 +56,37 @@ float halton(uint32_t index, uint32_t base) {
 
 // The shadow casters placed elsewhere since the last frame (`motions`, per
 // instance: world_motions), for the temporal passes to follow their shadows
-// (FrameData::shadow_movers): none where more than the frame holds moved.
+// (FrameData::shadow_movers; none where more than the frame holds moved),
+// and the boxes of those that stayed (FrameData::still_casters).
 void put_shadow_movers(const GpuScene& scene, const std::vector<glm::mat4>& motions, gpu::FrameData& frame) {
-  uint32_t count = 0;
-  for (uint32_t i = 0; i < motions.size(); ++i) {
-    if (motions[i] == glm::mat4(1.0f) || !scene.scene().instances[i].casts_shadow) continue;
-    if (count == gpu::kMaxShadowMovers) {
-      frame.shadow_mover_count = glm::uvec4(0u);
-      return;
-    }
+  uint32_t movers = 0;
+  std::vector<Bounds> still;
+  for (uint32_t i : scene.shadow_casters()) {
     const Bounds box = scene.scene().world_bounds({i}, scene.mesh_extents());
     if (box.is_empty()) continue;
-    glm::vec4* words = &frame.shadow_movers[gpu::kShadowMoverWords * count++];
+    if (motions[i] == glm::mat4(1.0f)) {
+      still.push_back(box);
+      continue;
+    }
+    if (movers == gpu::kMaxShadowMovers) {
+      frame.shadow_counts = glm::uvec4(0u);
+      return;
+    }
+    glm::vec4* words = &frame.shadow_movers[gpu::kShadowMoverWords * movers++];
     words[0] = glm::vec4(box.lo, 0.0f);
     words[1] = glm::vec4(box.hi, 0.0f);
     for (int row = 0; row < 3; ++row) words[2 + row] = glm::row(motions[i], row);
   }
-  frame.shadow_mover_count = glm::uvec4(count, 0u, 0u, 0u);
+  if (still.size() > gpu::kMaxShadowMovers) {
+    Bounds all = still[0];
+    for (const Bounds& box : still) all.lo = glm::min(all.lo, box.lo), all.hi = glm::max(all.hi, box.hi);
+    still = {all};
+  }
+  for (size_t k = 0; k < still.size(); ++k) {
+    frame.still_casters[2 * k] = glm::vec4(still[k].lo, 0.0f);
+    frame.still_casters[2 * k + 1] = glm::vec4(still[k].hi, 0.0f);
+  }
+  frame.shadow_counts = glm::uvec4(movers, uint32_t(still.size()), 0u, 0u);
 }
 
 }  // namespace

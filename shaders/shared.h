@@ -158,10 +158,14 @@ struct FrameData {
   // (lo, hi), then the three rows of its world_to_previous_world (where a
   // point of it now was). A shadow they cast moved with them: its history
   // is where their shadow was (temporal_history.glsl.h, follow_shadow).
-  // shadow_mover_count.x of them; 0 where none moved, or more than
+  // shadow_counts.x of them; 0 where none moved, or more than
   // kMaxShadowMovers did.
   vec4 shadow_movers[kShadowMoverWords * kMaxShadowMovers];
-  uvec4 shadow_mover_count;
+  // The world boxes (lo, hi) of the casters that stayed, shadow_counts.y of
+  // them (one holding them all where they are more than kMaxShadowMovers):
+  // a light path that meets none of them is shadowed by what moved alone.
+  vec4 still_casters[2 * kMaxShadowMovers];
+  uvec4 shadow_counts;
 };
 
 // What a G-buffer pixel holds (its position's w, and GBufferPush.base_color.w).
@@ -364,7 +368,8 @@ struct ShadowMapPush {
 static_assert(sizeof(BvhNode) == 48, "BvhNode layout");
 static_assert(sizeof(WindingDipole) == 32, "WindingDipole layout");
 static_assert(sizeof(GpuLight) == 64, "GpuLight layout");
-static_assert(sizeof(FrameData) == 112 + 32 * kMaxSkyBlockers + 4 * 64 + 6 * 16 + 16 * kShadowMoverWords * kMaxShadowMovers + 16,
+static_assert(sizeof(FrameData) == 112 + 32 * kMaxSkyBlockers + 4 * 64 + 6 * 16 + 16 * kShadowMoverWords * kMaxShadowMovers +
+                                       32 * kMaxShadowMovers + 16,
               "FrameData layout");
 static_assert(sizeof(GBufferPush) == 128, "GBufferPush layout");
 static_assert(sizeof(GpuMaterial) == 32, "GpuMaterial layout");

@@ -107,6 +107,7 @@ struct History {
   vec3 followed_color;
   float followed_shadow;
   float followed_samples;
+  bool followed_alone;  // ... and the light path meets no caster that stayed (what moved alone shadows it)
 };
 
 // The first of the casters that moved (frame.shadow_movers) on the path
@@ -115,7 +116,7 @@ struct History {
 // where the path is in its box.
 int first_mover_on_path(vec3 p, vec3 to_light, float t_max, GpuLight light, bool sun, out vec2 span) {
   int first = -1;
-  for (uint i = 0u; i < frame.shadow_mover_count.x; ++i) {
+  for (uint i = 0u; i < frame.shadow_counts.x; ++i) {
     vec3 lo = frame.shadow_movers[kShadowMoverWords * i].xyz, hi = frame.shadow_movers[kShadowMoverWords * i + 1u].xyz;
     vec3 centre = 0.5 * (lo + hi);
     float cone = sun ? light.direction.w * (distance(p, centre) + length(hi - centre)) : light.direction.w;
@@ -124,6 +125,20 @@ int first_mover_on_path(vec3 p, vec3 to_light, float t_max, GpuLight light, bool
     if (s.x <= s.y && (first < 0 || s.x < span.x)) first = int(i), span = s;
   }
   return first;
+}
+
+// Whether the path from p to a light (to_light, up to t_max) meets a
+// caster that stayed (frame.still_casters), each box grown by the light's
+// cone there.
+bool path_meets_still_caster(vec3 p, vec3 to_light, float t_max, GpuLight light, bool sun) {
+  for (uint i = 0u; i < frame.shadow_counts.y; ++i) {
+    vec3 lo = frame.still_casters[2u * i].xyz, hi = frame.still_casters[2u * i + 1u].xyz;
+    vec3 centre = 0.5 * (lo + hi);
+    float cone = sun ? light.direction.w * (distance(p, centre) + length(hi - centre)) : light.direction.w;
+    vec2 s = ray_box_span(p, safe_inverse(to_light), lo - cone, hi + cone);
+    if (max(s.x, 0.0) <= min(s.y, t_max)) return true;
+  }
+  return false;
 }
 
 // Where a moved shadow's history is. A caster that moved rigidly carries its
@@ -138,10 +153,14 @@ int first_mover_on_path(vec3 p, vec3 to_light, float t_max, GpuLight light, bool
 // on a plane then moves by the same offset wherever b is), an estimate for
 // one that turned, which the resolve's neighbourhood clip bounds. Only for
 // a receiver where it was on screen, under the same lights, with one light's
-// path past what moved (two lights' shadows move apart).
+// path past what moved (two lights' shadows move apart). followed_alone:
+// neither path (from p, from where the shadow was) meets a caster that
+// stayed, so what moved alone shadows both, and the resolve takes this
+// history whatever its sample; else the sample decides (a still caster's
+// shadow there would be read a move's length off).
 void follow_shadow(ivec2 pixel, vec3 p, inout History h) {
   h.followed_samples = 0.0;
-  if (frame.shadow_mover_count.x == 0u || !h.stays || pc.same_lighting != 1u) return;
+  if (frame.shadow_counts.x == 0u || !h.stays || pc.same_lighting != 1u) return;
   int crossing = -1;
   for (int l = 0; l < pc.light_count; ++l)
     if (light_path_crosses_change(p, l)) {
@@ -167,34 +186,55 @@ void follow_shadow(ivec2 pixel, vec3 p, inout History h) {
   vec4 clip = frame.previous_world_to_clip * vec4(p_before, 1.0);
   if (clip.w <= 0.0) return;
   float depth_before = dot(p_before - frame.previous_camera_position.xyz, frame.previous_camera_forward.xyz);
-  // Read bilinearly, as light (colour over albedo) from texels on the same
-  // surface that saw that depth: the albedo is this pixel's, not the one
-  // the shadow fell on.
+  // Read as light (colour over albedo) from texels on the same surface that
+  // saw that depth: the albedo is this pixel's, not the one the shadow fell
+  // on. Through a Catmull-Rom filter over 4x4 texels where all are on it,
+  // kept within the four nearest (else bilinearly, over those of the four
+  // that are): a moving shadow is read again at each step, and a bilinear
+  // read's blur, step after step, softened its edges.
   vec2 at = (clip.xy / clip.w * 0.5 + 0.5) * vec2(pc.image_size) - 0.5;
   ivec2 base = ivec2(floor(at));
   vec2 f = at - vec2(base);
-  vec3 light_sum = vec3(0.0);
-  float shadow = 0.0, samples = 1e30, weights = 0.0;
-  for (int k = 0; k < 4; ++k) {
-    ivec2 corner = base + ivec2(k & 1, k >> 1);
-    if (any(lessThan(corner, ivec2(0))) || any(greaterThanEqual(corner, pc.image_size))) continue;
-    vec2 bilinear = mix(1.0 - f, f, vec2(k & 1, k >> 1));
+  vec2 cubic[4] = vec2[4](f * (-0.5 + f * (1.0 - 0.5 * f)), 1.0 + f * f * (-2.5 + 1.5 * f),
+                          f * (0.5 + f * (2.0 - 1.5 * f)), f * f * (-0.5 + 0.5 * f));
+  vec4 smooth_sum = vec4(0.0), linear_sum = vec4(0.0);  // (light, shadow)
+  vec4 lo = vec4(1e30), hi = vec4(-1e30);
+  float samples = 1e30, weights = 0.0;
+  bool whole = true;
+  for (int k = 0; k < 16; ++k) {
+    ivec2 offset = ivec2(k & 3, k >> 2) - 1, texel = clamp(base + offset, ivec2(0), pc.image_size - 1);
+    bool inner = all(greaterThanEqual(offset, ivec2(0))) && all(lessThanEqual(offset, ivec2(1)));
+    vec4 before = imageLoad(history_passes, texel);
+    vec3 albedo = imageLoad(g_albedo, texel).rgb;
+    bool on_surface = texel == base + offset && saw_depth(before, depth_before) &&
+                      all(greaterThanEqual(albedo, vec3(1e-3))) && abs(dot(imageLoad(g_normal, texel).xyz, n)) >= 0.9;
+    whole = whole && on_surface;
+    if (!on_surface) continue;
+    vec4 value = vec4(imageLoad(history_color, texel).rgb / albedo, before.y);
+    smooth_sum += cubic[offset.x + 1].x * cubic[offset.y + 1].y * value;
+    if (!inner) continue;
+    vec2 bilinear = mix(1.0 - f, f, vec2(offset));
     float w = bilinear.x * bilinear.y;
-    vec4 before = imageLoad(history_passes, corner);
-    vec3 albedo = imageLoad(g_albedo, corner).rgb;
-    if (w <= 0.0 || !saw_depth(before, depth_before) || any(lessThan(albedo, vec3(1e-3))) ||
-        abs(dot(imageLoad(g_normal, corner).xyz, n)) < 0.9)
-      continue;
-    light_sum += w * imageLoad(history_color, corner).rgb / albedo;
-    shadow += w * before.y;
-    samples = min(samples, before.z);
+    linear_sum += w * value;
     weights += w;
+    lo = min(lo, value), hi = max(hi, value);
+    samples = min(samples, before.z);
+    // (a texel that saw a nearer surface too, a silhouette's, stands for few
+    // samples, as the pixel's own history matched within the jitter's reach
+    // does; nearer by 5 tolerances, beyond a grazing surface's spread of
+    // depths within a pixel)
+    if (before.x < depth_before * (1.0 - 5.0 * pc.depth_tolerance)) samples = min(samples, kNearbyHistorySamples);
   }
   vec3 albedo = imageLoad(g_albedo, pixel).rgb;
   if (weights < 0.5 || any(lessThan(albedo, vec3(1e-3)))) return;  // (half of it elsewhere: not this surface's)
-  h.followed_color = light_sum / weights * albedo;
-  h.followed_shadow = shadow / weights;
+  vec4 value = whole ? clamp(smooth_sum, lo, hi) : linear_sum / weights;
+  h.followed_color = value.rgb * albedo;
+  h.followed_shadow = value.a;
   h.followed_samples = min(samples, float(pc.history_samples));
+  // (from both ends: where the shadow was, a still caster's may have lain too)
+  vec3 to_light_before = sun ? to_light : light.position.xyz - p_before;
+  h.followed_alone = !path_meets_still_caster(p, to_light, sun ? 1e30 : 1.0, light, sun) &&
+                     !path_meets_still_caster(p_before, to_light_before, sun ? 1e30 : 1.0, light, sun);
 }
 
 // The history of `pixel` (its G-buffer position `position`).
@@ -215,6 +255,7 @@ History find_history(ivec2 pixel, vec4 position) {
   h.followed_color = vec3(0.0);
   h.followed_shadow = 0.0;
   h.followed_samples = 0.0;
+  h.followed_alone = false;
   vec4 motion = imageLoad(g_motion, pixel);
   h.previous_depth = motion.z;
   h.on_ray = position.xyz;
@@ -334,7 +375,7 @@ bool history_may_be_short(History h) {
 // moments (Combined, Shadow pass) and its samples in the flags' word above
 // kHistoryFollowedShift.
 const uint kHistoryDisoccluded = 1u, kHistoryFrontMoved = 2u, kHistoryStill = 4u, kHistoryAway = 8u,
-           kHistoryShadowMayMove = 16u, kHistoryFollowedShift = 8u;
+           kHistoryShadowMayMove = 16u, kHistoryFollowedAlone = 32u, kHistoryFollowedShift = 8u;
 
 // A pixel's resolved accumulation, as a temporal pass decides it and then
 // writes it, each image once: on lavapipe every image access in a shader's
@@ -349,7 +390,8 @@ struct Resolved {
 Resolved history_handed_on(History h) {
   uint flags = (h.disoccluded ? kHistoryDisoccluded : 0u) | (h.front_moved ? kHistoryFrontMoved : 0u) |
                (h.still ? kHistoryStill : 0u) | (h.away ? kHistoryAway : 0u) |
-               (h.shadow_may_move ? kHistoryShadowMayMove : 0u) | (uint(h.followed_samples) << kHistoryFollowedShift);
+               (h.shadow_may_move ? kHistoryShadowMayMove : 0u) | (h.followed_alone ? kHistoryFollowedAlone : 0u) |
+               (uint(h.followed_samples) << kHistoryFollowedShift);
   return Resolved(vec4(h.color.rgb, float(flags)), vec4(h.shadow, h.samples, h.nearest, h.farthest),
                   vec4(h.followed_color, h.followed_shadow));
 }
@@ -379,6 +421,7 @@ History handed_history(ivec2 pixel) {
   h.followed_color = followed.rgb;
   h.followed_shadow = followed.a;
   h.followed_samples = float(flags >> kHistoryFollowedShift);
+  h.followed_alone = (flags & kHistoryFollowedAlone) != 0u;
   return h;
 }
 #endif

@@ -123,11 +123,15 @@ Resolved resolve(ivec2 pixel, vec4 position, vec4 current, vec4 passes, History 
   if (h.disoccluded) return Resolved(current, passes, sample_second);  // (where history cannot help: this sample alone)
   // A moved shadow followed to where it was (follow_shadow) stands for its
   // own samples, clipped as a moving surface's history is. It is taken where
-  // its Shadow pass is nearer this frame's (filtered) than the receiver's own
-  // history's: a shadow that did not move (another caster's, whose path
-  // passes the box of what moved) keeps that.
-  bool followed = h.shadow_may_move && h.followed_samples > 0.0 &&
-                  abs(shadow - h.followed_shadow) < abs(shadow - h.shadow);
+  // what moved alone can shadow the pixel (followed_alone), or where its
+  // Shadow pass is nearer this frame's (filtered) than the receiver's own
+  // history's: a shadow that did not move (a still caster's, whose path
+  // passes the box of what moved) keeps that. (The noisy sample alone
+  // picked the own history at a moving shadow's edge often enough to make
+  // it speckle.) Where the two agree, the own history is kept: it may
+  // settle, and the lit ground around a moving caster does not shimmer.
+  bool followed = h.shadow_may_move && h.followed_samples > 0.0 && abs(h.followed_shadow - h.shadow) >= kSameShadow &&
+                  (h.followed_alone || abs(shadow - h.followed_shadow) < abs(shadow - h.shadow));
   if (followed) {
     h.color.rgb = h.followed_color;
     h.shadow = h.followed_shadow;

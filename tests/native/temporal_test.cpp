@@ -766,13 +766,48 @@ TEST_F(TemporalTest, AShadowThatDidNotMoveKeepsItsHistory) {
       ++lit;
       if (played.samples[i] <= 2.0f) ++restarted;
     }
-    if (moved && played.samples[i] <= 2.0f) ++shadow_ends;
+    if (moved) ++shadow_ends;
   }
   std::printf("lit ground kept lit: %d pixels, %d of them restarted (history counted as one sample); pixels whose "
-              "shadow moved, restarted: %d\n", lit, restarted, shadow_ends);
+              "shadow moved: %d\n", lit, restarted, shadow_ends);
   ASSERT_GT(lit, 1000);
   EXPECT_LT(restarted, lit / 50);
-  EXPECT_GT(shadow_ends, 0) << "where the shadow did move, history still restarts";
+  EXPECT_GT(shadow_ends, 0) << "where the shadow did move, the frame shows it";
+}
+
+// A still caster's shadow whose light paths pass the box of one that moved
+// beside it keeps its own history: follow_shadow would read it where the
+// moved caster's shadow was, a cube's width along, so the resolve takes the
+// followed history only where the paths (from both ends) meet no caster
+// that stayed, or where the sample says so. One cube stands still at
+// y = 0, the other moves along x at y = 0.6, its box grown by the wide
+// sun's cone reaching the paths from the still cube's shadow: the first
+// playback frame shows that shadow's penumbra as it was (a mean change of
+// 0.0023; 0.016 with the followed history taken there as well).
+TEST_F(TemporalTest, AStillCastersShadowBesideAMovedOneKeepsItsHistory) {
+  GpuScene scene(context(), two_cubes(0.6f, 0.0f));
+  Renderer renderer(context());
+  RenderSettings settings = playback_settings();
+  settings.samples = 16;
+  draw_top_view(renderer, scene, {wide_sun()}, glm::vec3(0.05f), settings, settings.samples);
+  const RenderOutput before = renderer.read();
+  scene.set_transforms(two_cubes_at(0.0f, 0.6f, 0.0f));
+  draw_top_view(renderer, scene, {wide_sun()}, glm::vec3(0.05f), settings, 1);
+  const RenderOutput played = renderer.read();
+  // (the still cube's penumbra on the ground, off the moved one's shadow: y under 0.2)
+  double change = 0.0;
+  int pixels = 0;
+  for (size_t i = 0; i < played.shadow.size(); ++i) {
+    const double y = 2.0 - (double(i / kSize) + 0.5) / kSize * 4.0;
+    if (played.depth[i] < 9.9f || y > 0.2 || y < -0.6 || before.shadow[i] > 0.95f || before.shadow[i] < 0.05f) continue;
+    change += std::abs(double(played.shadow[i]) - double(before.shadow[i]));
+    ++pixels;
+  }
+  change /= std::max(pixels, 1);
+  std::printf("the still cube's penumbra: %d pixels, mean change of the Shadow pass in the first playback frame %.4f\n",
+              pixels, change);
+  ASSERT_GT(pixels, 100);
+  EXPECT_LT(change, 0.01);
 }
 
 // The noise of images of the floating cube against a converged one (256
@@ -958,9 +993,9 @@ TEST_F(TemporalTest, ADeformedCastersMovedPenumbraTakesMoreRaysInItsFirstFrame) 
 // playback frame's moved penumbra takes the history of the shadow where it
 // was (follow_shadow in shaders/temporal_history.glsl.h) with its samples,
 // with no more rays than any frame (short_history_rays 1). Its noise
-// against a converged render is under half a frame's own, and well under
-// that of the same move by the caster's vertices (a deformation, not
-// followed: history of one sample there). (0.41 and 0.69 of a frame's.)
+// against a converged render is as low as 16 frames' (0.18 of a frame's
+// own), where the same move by the caster's vertices (a deformation, not
+// followed: history of one sample there) shows 0.69 of it.
 TEST_F(TemporalTest, AMovedCastersShadowIsFollowedToItsHistory) {
   RenderSettings settings = playback_settings();
   settings.exact_rays = 4;
@@ -989,8 +1024,8 @@ TEST_F(TemporalTest, AMovedCastersShadowIsFollowedToItsHistory) {
   ASSERT_GT(own.pixels, 40);
   ASSERT_GT(own.per_pixel, 0.02) << "a frame of its own is noisy enough to tell";
   EXPECT_GT(samples, 8.0) << "the followed history's samples carried over";
-  EXPECT_LT(shown.per_pixel, 0.5 * own.per_pixel);
-  EXPECT_LT(shown.per_pixel, 0.7 * unfollowed.per_pixel);
+  EXPECT_LT(shown.per_pixel, 0.3 * own.per_pixel);
+  EXPECT_LT(shown.per_pixel, 0.4 * unfollowed.per_pixel);
 }
 
 // A step of two_cubes: the first cube at (x, 1), the second at (-0.5, y),
