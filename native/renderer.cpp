@@ -56,37 +56,35 @@ float halton(uint32_t index, uint32_t base) {
 
 // The shadow casters placed elsewhere since the last frame (`motions`, per
 // instance: world_motions), for the temporal passes to follow their shadows
-// (FrameData::shadow_movers; none where more than the frame holds moved),
-// and the boxes of those that stayed (FrameData::still_casters).
+// (FrameData::shadow_movers; none where none or more than the frame holds
+// moved), and the boxes of those that stayed (FrameData::still_casters).
 void put_shadow_movers(const GpuScene& scene, const std::vector<glm::mat4>& motions, gpu::FrameData& frame) {
+  frame.shadow_counts = glm::uvec4(0u);
+  std::vector<uint32_t> moved, still;
+  for (uint32_t i : scene.shadow_casters()) (motions[i] == glm::mat4(1.0f) ? still : moved).push_back(i);
+  if (moved.empty() || moved.size() > gpu::kMaxShadowMovers) return;
+  const Scene& placed = scene.scene();
   uint32_t movers = 0;
-  std::vector<Bounds> still;
-  for (uint32_t i : scene.shadow_casters()) {
-    const Bounds box = scene.scene().world_bounds({i}, scene.mesh_extents());
+  for (uint32_t i : moved) {
+    const Bounds box = placed.world_bounds({i}, scene.mesh_extents());
     if (box.is_empty()) continue;
-    if (motions[i] == glm::mat4(1.0f)) {
-      still.push_back(box);
-      continue;
-    }
-    if (movers == gpu::kMaxShadowMovers) {
-      frame.shadow_counts = glm::uvec4(0u);
-      return;
-    }
     glm::vec4* words = &frame.shadow_movers[gpu::kShadowMoverWords * movers++];
     words[0] = glm::vec4(box.lo, 0.0f);
     words[1] = glm::vec4(box.hi, 0.0f);
     for (int row = 0; row < 3; ++row) words[2 + row] = glm::row(motions[i], row);
   }
-  if (still.size() > gpu::kMaxShadowMovers) {
-    Bounds all = still[0];
-    for (const Bounds& box : still) all.lo = glm::min(all.lo, box.lo), all.hi = glm::max(all.hi, box.hi);
-    still = {all};
+  std::vector<Bounds> boxes;  // (each one's, or one holding them all where they are many)
+  if (still.size() <= gpu::kMaxShadowMovers)
+    for (uint32_t i : still) boxes.push_back(placed.world_bounds({i}, scene.mesh_extents()));
+  else
+    boxes.push_back(placed.world_bounds(still, scene.mesh_extents()));
+  uint32_t stills = 0;
+  for (const Bounds& box : boxes) {
+    if (box.is_empty()) continue;
+    frame.still_casters[2 * stills] = glm::vec4(box.lo, 0.0f);
+    frame.still_casters[2 * stills++ + 1] = glm::vec4(box.hi, 0.0f);
   }
-  for (size_t k = 0; k < still.size(); ++k) {
-    frame.still_casters[2 * k] = glm::vec4(still[k].lo, 0.0f);
-    frame.still_casters[2 * k + 1] = glm::vec4(still[k].hi, 0.0f);
-  }
-  frame.shadow_counts = glm::uvec4(movers, uint32_t(still.size()), 0u, 0u);
+  frame.shadow_counts = glm::uvec4(movers, stills, 0u, 0u);
 }
 
 }  // namespace
