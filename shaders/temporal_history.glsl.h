@@ -162,16 +162,11 @@ bool path_meets_still_caster(vec3 p, LightCone cone) {
 // stayed, so what moved alone shadows both, and the resolve takes this
 // history whatever its sample; else the sample decides (a still caster's
 // shadow there would be read a move's length off).
-void follow_shadow(ivec2 pixel, vec3 p, inout History h) {
+// `crossing`: the one light whose paths cross the changed box (find_history
+// finds it; -1 where none or several do).
+void follow_shadow(ivec2 pixel, vec3 p, int crossing, inout History h) {
   h.followed_samples = 0.0;
-  if (frame.shadow_counts.x == 0u || !h.stays || pc.same_lighting != 1u) return;
-  int crossing = -1;
-  for (int l = 0; l < pc.light_count; ++l)
-    if (light_path_crosses_change(p, l)) {
-      if (crossing >= 0) return;
-      crossing = l;
-    }
-  if (crossing < 0) return;
+  if (frame.shadow_counts.x == 0u || !h.stays || pc.same_lighting != 1u || crossing < 0) return;
   GpuLight light = lights[crossing];
   LightCone cone = light_cone(p, light);
   vec2 span;
@@ -327,8 +322,9 @@ History find_history(ivec2 pixel, vec4 position) {
                     within_box(history_front, frame.moved_lo, frame.moved_hi,
                                (pc.jitter_reach + 2.0) * pixel_width_at(history_front));
   }
+  int crossing = -1;  // (the light whose paths cross it, where one alone does)
   for (int l = 0; l < pc.light_count && !background; ++l)
-    if (light_path_crosses_change(position.xyz, l)) h.shadow_may_move = true;
+    if (light_path_crosses_change(position.xyz, l)) crossing = h.shadow_may_move ? -1 : l, h.shadow_may_move = true;
   // Still: under the same lights and world, full history that stays on
   // screen where it was, with no moved object in front of it before (the
   // resolve leaves out, too, what lies in a moved shadow). A silhouette's
@@ -339,7 +335,7 @@ History find_history(ivec2 pixel, vec4 position) {
   h.still = pc.same_lighting == 1u && min(h.full_samples, float(pc.history_samples)) >= float(pc.history_samples) &&
             !h.front_moved && h.stays;
   h.away = background || !in_contact_with_change(position.xyz);
-  if (h.shadow_may_move) follow_shadow(pixel, position.xyz, h);
+  if (h.shadow_may_move) follow_shadow(pixel, position.xyz, crossing, h);
   return h;
 }
 
