@@ -15,9 +15,9 @@ third, and the fastest run of each is the one least touched by it.
 
 --size draws at WxH instead of the scene's size (a Blender viewport of a
 1045x666 region at Resolution Scale 0.5 draws 522x333). --stages prints
-too where the steps with temporal reuse went: the medians of the
-viewport's stage timings (the GPU's G-buffer, quad pass, temporal passes
-and all shading; the SDF and fine updates; the frame's wall time).
+too where the steps with and without temporal reuse went: the medians of the
+viewport's stage timings (the GPU's G-buffer, quad pass, temporal passes (and
+of those the keep pass) and all shading; the SDF and fine updates; the frame's wall time).
 --exact-rays and --quick-first-frame set those two settings as the
 add-on's viewport has them (4 and on; bench/run's Preview row, which the
 script draws otherwise, leaves the native defaults).
@@ -91,23 +91,24 @@ def main():
         session.forget_fields()
         session.render(data["before"], settings)  # (the fields refined, as in a viewport open a while)
         runs = {False: [], True: []}
-        stages = {}
+        stages = {False: {}, True: {}}
         for _ in range(args.runs):
             for reuse in (False, True):
                 ms, run_stages = playback_steps(session, data, settings, reuse, size)
                 runs[reuse].append(ms)
-                if reuse:
-                    for stage, stage_ms in run_stages.items():
-                        stages.setdefault(stage, []).append(stage_ms)
+                for stage, stage_ms in run_stages.items():
+                    stages[reuse].setdefault(stage, []).append(stage_ms)
         off, on = float(np.median(runs[False])), float(np.median(runs[True]))
         print(f"{scene}: step {off:.1f} ms without temporal reuse, {on:.1f} ms with it: {on / off:.3f}x; "
               f"fastest runs {min(runs[False]):.1f} and {min(runs[True]):.1f} ms: {min(runs[True]) / min(runs[False]):.3f}x "
               f"({session.device})", flush=True)
         if args.stages:
-            shown = ("gbuffer_gpu", "quad_gpu", "temporal_gpu", "shade_gpu", "sdf", "fine", "total")
-            print(f"{scene}: stages with reuse, median over runs: " +
-                  ", ".join(f"{stage} {np.median(stages[stage]):.1f}" for stage in shown if stage in stages) +
-                  f" ms; drawn share of the image {np.median(stages['drawn_share']):.2f}", flush=True)
+            shown = ("gbuffer_gpu", "quad_gpu", "temporal_gpu", "keep_gpu", "shade_gpu", "sdf", "fine", "total")
+            for reuse in (True, False):
+                taken = stages[reuse]
+                print(f"{scene}: stages {'with' if reuse else 'without'} reuse, median over runs: " +
+                      ", ".join(f"{stage} {np.median(taken[stage]):.1f}" for stage in shown if stage in taken) +
+                      f" ms; drawn share of the image {np.median(taken['drawn_share']):.2f}", flush=True)
 
 
 if __name__ == "__main__":

@@ -720,6 +720,7 @@ void Renderer::add_frame() {
     (span.label == "gbuffer" ? timings_.gbuffer_gpu_ms : timings_.shade_gpu_ms) += span.ms;
     if (span.label == "quad") timings_.quad_gpu_ms += span.ms;
     if (span.label == "keep" || span.label == "temporal") timings_.temporal_gpu_ms += span.ms;
+    if (span.label == "keep") timings_.keep_gpu_ms += span.ms;
   }
   timings_.total_ms += ms_since(start);
   frame_++;

@@ -213,9 +213,10 @@ struct RenderTimings {
   // Device time of shade_ms's passes (0 where the device has no timestamps):
   // the G-buffer, the quarter-rate visibility pass (quad_gpu_ms: the world
   // light, and the lights in a quick first frame), the temporal reuse after a
-  // change (temporal_gpu_ms) and the shading (shade_gpu_ms, which includes
-  // quad_gpu_ms and temporal_gpu_ms).
-  double gbuffer_gpu_ms = 0, quad_gpu_ms = 0, temporal_gpu_ms = 0, shade_gpu_ms = 0;
+  // change (temporal_gpu_ms; keep_gpu_ms its keep pass, before the shading)
+  // and the shading (shade_gpu_ms, which includes quad_gpu_ms and
+  // temporal_gpu_ms).
+  double gbuffer_gpu_ms = 0, quad_gpu_ms = 0, temporal_gpu_ms = 0, keep_gpu_ms = 0, shade_gpu_ms = 0;
 };
 
 struct RenderOutput {

@@ -228,7 +228,7 @@ py::dict timings_of(const rtsdf::RenderTimings& t) {
   return py::dict(py::arg("sdf") = t.coarse_ms, py::arg("fine") = t.fine_ms, py::arg("shadow_map") = t.shadow_map_ms,
                   py::arg("shade") = t.shade_ms, py::arg("total") = t.total_ms,
                   py::arg("gbuffer_gpu") = t.gbuffer_gpu_ms, py::arg("quad_gpu") = t.quad_gpu_ms,
-                  py::arg("temporal_gpu") = t.temporal_gpu_ms,
+                  py::arg("temporal_gpu") = t.temporal_gpu_ms, py::arg("keep_gpu") = t.keep_gpu_ms,
                   py::arg("shade_gpu") = t.shade_gpu_ms);
 }
 
