@@ -311,6 +311,13 @@ TEST_F(TemporalTest, APlaybackFrameShadesThePartialTilesAtTheImageEdges) {
   EXPECT_GE(fewest_samples, 1.0f);
   ASSERT_GT(count, 20);
   EXPECT_LT(worst, 0.3) << "the moved shadow is drawn in the partial tiles in its first frame";
+  // The keep pass's time is given apart, as a part of the temporal passes'
+  // (none where the device has no timestamps).
+  const RenderTimings& timings = renderer.timings();
+  if (timings.temporal_gpu_ms > 0.0) {
+    EXPECT_GT(timings.keep_gpu_ms, 0.0);
+    EXPECT_LT(timings.keep_gpu_ms, timings.temporal_gpu_ms) << "the resolve's share is the rest";
+  }
 }
 
 // The pixels on a dark cube's silhouette against what lies behind it
