@@ -3,7 +3,7 @@
 number of exact rays.
 
 usage: bench/playback_error.py WORK_DIR SCENE[,SCENE...] [--exact-rays N[,N...]]
-                               [--short-history-rays K]
+                               [--short-history-rays K] [--final]
 
 WORK_DIR is a bench/run output's work directory (DIR/work: each scene's
 scene.pkl and Cycles references). bench/run's playback column plays its
@@ -15,8 +15,14 @@ prints bench/run's playback figures (playback_figures): the playback
 frame's shadow RMSE against Cycles and its ratio to the still frame's;
 then what sets the two frames apart over the shadowed pixels, split into
 lag (its smooth part: a shadow left behind or not yet arrived) and noise
-(the rest). --short-history-rays sets the factor on the exact rays where
-history is short (the native default, 4, otherwise; 1: as in any frame).
+(the rest), and where the playback frame's squared error against Cycles
+exceeds the still frame's: at geometry edges (pixels within one of an edge
+of Cycles' render without shadows: outlines, creases, fins) or elsewhere
+(shadows on smooth surfaces). --short-history-rays sets the factor on the
+exact rays where history is short (the native default, 4, otherwise; 1: as
+in any frame). --final plays bench/run's Final row instead of Preview (16
+samples, its own 4 exact rays unless --exact-rays is given): its playback
+ratio is the one in results.csv.
 """
 import argparse
 import importlib.machinery
@@ -43,22 +49,49 @@ def lag_and_noise(played, still, refs, window=7):
     return float(np.sqrt(np.mean(smooth[shadowed] ** 2))), float(np.sqrt(np.mean((difference - smooth)[shadowed] ** 2)))
 
 
+def geometry_edges(unshadowed, threshold=0.03):
+    """(H, W) mask of the pixels within one of an edge of an image without
+    shadows (its brightness's gradient above `threshold`)."""
+    rows, cols = np.gradient(unshadowed.mean(axis=-1))
+    edge = np.hypot(rows, cols) > threshold
+    padded = np.pad(edge, 1)
+    height, width = edge.shape
+    return np.any([padded[1 + dy:1 + dy + height, 1 + dx:1 + dx + width] for dy in (-1, 0, 1) for dx in (-1, 0, 1)],
+                  axis=0)
+
+
+def excess_at_edges(played, still, refs):
+    """The playback frame's mean squared error against Cycles over its
+    shadowed pixels less the still frame's, split into what lies at geometry
+    edges and elsewhere (the two add up to the whole excess)."""
+    metrics = bench.metrics
+    reference = refs["after_shadowed"][..., :3]
+    shadowed = metrics.visibility(refs["after_shadowed"], refs["after_unshadowed"]) < metrics.SHADOWED_BELOW
+    excess = ((played - reference) ** 2).mean(axis=-1) - ((still - reference) ** 2).mean(axis=-1)
+    edges = geometry_edges(refs["after_unshadowed"][..., :3])
+    count = max(int(shadowed.sum()), 1)
+    return float(excess[shadowed & edges].sum() / count), float(excess[shadowed & ~edges].sum() / count)
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("work")
     parser.add_argument("scenes")
-    parser.add_argument("--exact-rays", default="0,4", help="exact rays per light and sample, comma-separated")
+    parser.add_argument("--exact-rays", help="exact rays per light and sample, comma-separated (default 0,4; "
+                                             "with --final, the Final row's)")
     parser.add_argument("--short-history-rays", type=int, help="the factor on the exact rays where history is short")
+    parser.add_argument("--final", action="store_true", help="bench/run's Final row, not its Preview row")
     args = parser.parse_args()
     session = bench.sessions()[0]
-    _, preview = bench.sweep("rtsdf", True, True)[0]
+    _, base = bench.sweep("rtsdf", True, True)[1 if args.final else 0]
+    exact_rays = args.exact_rays or (str(base["exact_rays"]) if args.final else "0,4")
     for scene in args.scenes.split(","):
         data, refs = bench.prepared_scene(os.path.join(args.work, scene))
         if data["after"] is None or "after_shadowed" not in refs:
             print(f"{scene}: no mover, skipped")
             continue
-        for rays in (int(n) for n in args.exact_rays.split(",")):
-            settings = dict(preview, exact_rays=rays)
+        for rays in (int(n) for n in exact_rays.split(",")):
+            settings = dict(base, exact_rays=rays)
             if args.short_history_rays is not None:
                 settings["short_history_rays"] = args.short_history_rays
             session.forget_fields()
@@ -66,9 +99,11 @@ def main():
             still = session.render(data["after"], settings)["combined"][..., :3]
             figures = bench.playback_figures(played, still, refs)
             lag, noise = lag_and_noise(played[-1], still, refs)
+            at_edges, elsewhere = excess_at_edges(played[-1], still, refs)
             print(f"{scene}: exact rays {rays}: playback frame shadow RMSE {figures['playback_rmse']}, "
                   f"{figures['playback_ratio']}x the still frame's; from the still frame, lag {lag:.4f}, "
-                  f"noise {noise:.4f} ({session.device})", flush=True)
+                  f"noise {noise:.4f}; squared error beyond the still frame's: {at_edges:.6f} at geometry "
+                  f"edges, {elsewhere:.6f} elsewhere ({session.device})", flush=True)
 
 if __name__ == "__main__":
     main()

@@ -30,6 +30,14 @@ def load_bench():
 bench = load_bench()
 
 
+def load_playback_error():
+    path = os.path.join(ROOT, "bench", "playback_error.py")
+    spec = importlib.util.spec_from_file_location("rtsdf_playback_error", path)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
 class Figures(unittest.TestCase):
     def test_leak_counts_umbra_pixels_that_get_the_lights_light(self):
         world = np.full((10, 10, 3), 0.05, np.float32)
@@ -93,6 +101,28 @@ class Figures(unittest.TestCase):
         mesh["positions"] = np.array([0, 0, 0, 1, 0, 0, 1, 0, 10, 0, 0, 10], np.float32)  # (upright, through z = 5)
         self.assertEqual(bench.mover_screen_box({"before": pose(0.0, 0.0), "after": pose(1.0, 0.0)}, 4),
                          (0, height - 1, 0, width - 1))
+
+    def test_playback_error_splits_the_excess_at_geometry_edges_from_the_rest(self):
+        playback_error = load_playback_error()
+        unshadowed = np.full((20, 20, 3), 0.8, np.float32)
+        unshadowed[:, 10:] = 0.2  # an outline down the middle (columns 9 and 10; 8 to 11 with their neighbours)
+        reference = unshadowed * 0.5  # all of it in shadow
+        refs = {"after_shadowed": reference, "after_unshadowed": unshadowed}
+        edges = playback_error.geometry_edges(unshadowed)
+        self.assertTrue(edges[:, 8:12].all())
+        self.assertFalse(edges[:, :7].any() or edges[:, 13:].any())
+        still = reference.copy()
+        played = reference.copy()
+        played[:, 9] += 0.1  # off at the outline
+        at_edges, elsewhere = playback_error.excess_at_edges(played, still, refs)
+        self.assertAlmostEqual(at_edges, 0.01 * 20 / 400, places=6)
+        self.assertAlmostEqual(elsewhere, 0.0, places=6)
+        played[:, 2] += 0.1  # and on the flat part
+        at_edges, elsewhere = playback_error.excess_at_edges(played, still, refs)
+        self.assertAlmostEqual(elsewhere, 0.01 * 20 / 400, places=6)
+        # The still frame's own error there is not counted again.
+        still[:, 2] += 0.1
+        self.assertAlmostEqual(playback_error.excess_at_edges(played, still, refs)[1], 0.0, places=6)
 
     def test_pareto_front(self):
         points = [(10.0, 0.5), (20.0, 0.2), (15.0, 0.6), (30.0, 0.1), (30.0, 0.3)]
