@@ -83,7 +83,8 @@ def main():
     parser.add_argument("--final", action="store_true", help="bench/run's Final row, not its Preview row")
     args = parser.parse_args()
     session = bench.sessions()[0]
-    _, base = bench.sweep("rtsdf", True, True)[1 if args.final else 0]
+    rows = bench.sweep("rtsdf", True, True)
+    base = next(settings for label, settings in rows if label.startswith("preset=Final")) if args.final else rows[0][1]
     exact_rays = args.exact_rays or (str(base["exact_rays"]) if args.final else "0,4")
     for scene in args.scenes.split(","):
         data, refs = bench.prepared_scene(os.path.join(args.work, scene))
