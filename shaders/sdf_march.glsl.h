@@ -170,6 +170,7 @@ float visibility(vec3 origin, vec3 dir, float t_min, float t_max, float tan_radi
   // The axis's first passage through an occluder: where it entered, where it
   // left, and the voxel there (entry < 0: none yet; exit < 0: still inside).
   float entry = -1.0, exit = -1.0, crossing_voxel = 0.0;
+  float deepest = 0.0;  // the lowest clearance on that passage
   bool uncertain = false;  // (classify) some sample's clearance was within epsilon of the cone's radius
   float segment_end = t;  // the fields near [t, segment_end] are gathered
   int nearby = 0;
@@ -259,6 +260,10 @@ float visibility(vec3 origin, vec3 dir, float t_min, float t_max, float tan_radi
       if (h < 0.0 && axis_blocks) return 0.0;
       if (h < 0.0 && entry < 0.0) entry = t, crossing_voxel = voxel;
       if (h >= 0.0 && entry >= 0.0 && exit < 0.0) exit = t;
+      // (back in within a voxel: one passage, as where a wall's top meets the ceiling the clearance dips below
+      // zero, rises within the field's error and falls again)
+      else if (h < 0.0 && exit > 0.0 && t - exit < voxel) exit = -1.0;
+      if (entry >= 0.0 && exit < 0.0) deepest = min(deepest, h);
       if (tan_radius <= 0.0) {
         if (!unsigned_field && h < epsilon) return 0.0;
       } else {
@@ -302,7 +307,22 @@ float visibility(vec3 origin, vec3 dir, float t_min, float t_max, float tan_radi
   if (exit > 0.0) {
     vec3 normals[2];
     for (int k = 0; k < 2; ++k) normals[k] = surface_normal_at(origin, dir, inv_dir, k == 0 ? entry : exit, crossing_voxel);
-    crossed_sheet = dot(normals[0], normals[1]) < -0.5;
+    // A sheet: left through a face turned away from the one it entered by.
+    // Or a solid too thin for the field (within a voxel deep all through)
+    // crossed at a corner, its faces at an angle (a room's walls meeting, a
+    // ceiling slab over a wall): the clearance there says how thin it is,
+    // not how far it reaches. Told from the rim of a solid by a chord
+    // - over four times that depth (a right-angled edge gives under three),
+    // - over three voxels (a piece thinner than a voxel, a slat crossed at
+    //   its edge, reads as a slab a voxel thick, and the ray through that
+    //   slab widens its shadow more than the cone errs),
+    // - and longer than the cone is wide there (a small solid's corner,
+    //   which the cone's other rays pass, keeps the cone's estimate).
+    float facing = dot(normals[0], normals[1]);
+    float chord = exit - entry;
+    bool thin_corner = facing < 0.5 && -deepest < crossing_voxel &&
+                       chord > max(max(4.0 * -deepest, 3.0 * crossing_voxel), tan_radius * exit);
+    crossed_sheet = facing < -0.5 || thin_corner;
   }
   return disk_visible(ratio);
 }
@@ -311,10 +331,12 @@ float visibility(vec3 origin, vec3 dir, float t_min, float t_max, float tan_radi
 // origin. The cone march measures it from the clearances along the axis,
 // which holds for the rim of a solid: outside surfaces the clearance is the
 // distance in every direction, and inside it is the depth below the rim.
-// Where the axis crosses a sheet (a wall, a leaf card, a plate), the
-// clearance inside tells only the sheet's thickness, not how far it reaches
-// sideways: a room's walls and ceiling, thinner than the sun's cone is wide,
-// let a sixth of the sun through (the interior sample). There, one ray
+// Where the axis crosses a sheet (a wall, a leaf card, a plate), or a solid
+// as thin as the field's voxels at a corner (where two walls or a wall and
+// the ceiling meet), the clearance inside tells only its thickness, not how
+// far it reaches sideways: a room's walls and ceiling, thinner than the
+// sun's cone is wide, let a sixth of the sun through (the interior sample),
+// and lines of it across the floor from the corners. There, one ray
 // towards a random point of the light's disk (new each frame) stands in: its
 // 0 or 1 averages over accumulation frames to the true share, whatever the
 // occluder's shape.

@@ -546,6 +546,57 @@ TEST_F(RendererTest, NoSunThroughTheWallAtACornerOfAClosedRoom) {
   }
 }
 
+// A room built as an Archimesh room is: its walls one mesh of boxes that
+// overlap at the corners, its ceiling a slab of its own resting on them,
+// its floor a sheet; a low sun outside. At the Preview preset's resolution
+// (walls two voxels thick) and without exact rays, no sun reaches the floor.
+// Rays that cross a wall at the room's corner, or pass where a wall's top
+// meets the ceiling, stay within a voxel of the walls' surfaces all through
+// (the field cannot be deeper than half a wall), and leave by a face at a
+// right angle to the one they entered by: the cone read a third of the sun
+// through, in lines of light across the floor (288 of the 6,992 floor
+// pixels here, 4%; the interior sample's Preview had them too, none in
+// Cycles). Now 86: seams crossed in under three voxels keep the cone's
+// estimate (see visibility() in shaders/sdf_march.glsl.h).
+TEST_F(RendererTest, NoSunThroughTheCornersAndCeilingSeamsOfAThinWalledRoom) {
+  Mesh walls = reference::box({-3.15f, -2.65f, 0.0f}, {-3.0f, 2.65f, 2.7f});
+  reference::append(walls, reference::box({3.0f, -2.65f, 0.0f}, {3.15f, 2.65f, 2.7f}));
+  reference::append(walls, reference::box({-3.15f, -2.65f, 0.0f}, {3.15f, -2.5f, 2.7f}));
+  reference::append(walls, reference::box({-3.15f, 2.5f, 0.0f}, {3.15f, 2.65f, 2.7f}));
+  Scene scene;
+  scene.meshes = {walls, reference::box({-3.15f, -2.65f, 2.7f}, {3.15f, 2.65f, 2.85f}),
+                  reference::sheet({-3.0f, -2.5f}, {3.0f, 2.5f}, 0.0f)};
+  scene.instances = {{0, glm::mat4(1.0f)}, {1, glm::mat4(1.0f)}, {2, glm::mat4(1.0f)}};
+  GpuScene gpu_scene(context(), scene);
+  Light sun;
+  sun.type = LightType::Sun;
+  sun.direction = glm::normalize(glm::vec3(0.82f, 0.22f, -0.53f));  // 32 degrees up, across the -x wall's corners
+  sun.energy = 3.0f;
+  sun.sun_angle = 3.0f * float(M_PI) / 180.0f;
+  RenderSettings settings;  // (the Preview preset's fields, no exact rays)
+  settings.samples = 8;
+  settings.coarse_resolution = 64;
+  settings.fine_resolution = 96;
+  settings.exact_rays = 0;
+  Renderer renderer(context());
+  // From under the ceiling, straight down: 6 x 6 units over 96 pixels.
+  const Camera camera = orthographic_view({0.0f, 0.0f, 2.6f}, {0.0f, 0.0f, 0.0f}, {0, 1, 0}, 3.0f);
+  const RenderOutput out = renderer.render(gpu_scene, camera, {sun}, glm::vec3(0.0f), 96, 96, settings);
+  double brightest = 0.0;
+  int lit = 0, floor = 0;
+  for (int y = 0; y < out.height; ++y)
+    for (int x = 0; x < out.width; ++x) {
+      // (the floor away from the walls: the camera, under the ceiling, is inside the walls at the image's sides)
+      const float wx = (x + 0.5f) / out.width * 6.0f - 3.0f, wy = 3.0f - (y + 0.5f) / out.height * 6.0f;
+      if (std::abs(wx) > 2.9f || std::abs(wy) > 2.4f) continue;
+      const double v = out.combined[4 * (size_t(y) * out.width + x)];
+      brightest = std::max(brightest, v), lit += v > 0.01 ? 1 : 0, floor++;
+    }
+  std::printf("floor of a thin-walled room under a low sun, no exact rays: brightest %.4f, %d of %d pixels above 0.01\n",
+              brightest, lit, floor);
+  EXPECT_LT(lit, floor / 50);
+}
+
 // A low sun behind a wall 8 units away, and on the way a small object (its
 // own mesh, so its own field, voxels a hundredth of the wall's) half a unit
 // beside the rays: the ground stays in the wall's shadow. The march's steps
