@@ -313,15 +313,15 @@ float visibility(vec3 origin, vec3 dir, float t_min, float t_max, float tan_radi
     // ceiling slab over a wall): the clearance there says how thin it is,
     // not how far it reaches. Told from the rim of a solid by a chord
     // - over four times that depth (a right-angled edge gives under three),
-    // - over three voxels (a piece thinner than a voxel, a slat crossed at
-    //   its edge, reads as a slab a voxel thick, and the ray through that
-    //   slab widens its shadow more than the cone errs),
+    // - over two and a half voxels (a piece thinner than a voxel, a slat
+    //   crossed at its edge, reads as a slab a voxel thick, and the ray
+    //   through that slab widens its shadow more than the cone errs),
     // - and longer than the cone is wide there (a small solid's corner,
     //   which the cone's other rays pass, keeps the cone's estimate).
     float facing = dot(normals[0], normals[1]);
     float chord = exit - entry;
     bool thin_corner = facing < 0.5 && -deepest < crossing_voxel &&
-                       chord > max(max(4.0 * -deepest, 3.0 * crossing_voxel), tan_radius * exit);
+                       chord > max(max(4.0 * -deepest, 2.5 * crossing_voxel), tan_radius * exit);
     crossed_sheet = facing < -0.5 || thin_corner;
   }
   return disk_visible(ratio);

@@ -556,8 +556,8 @@ TEST_F(RendererTest, NoSunThroughTheWallAtACornerOfAClosedRoom) {
 // right angle to the one they entered by: the cone read a third of the sun
 // through, in lines of light across the floor (288 of the 6,992 floor
 // pixels here, 4%; the interior sample's Preview had them too, none in
-// Cycles). Now 86: seams crossed in under three voxels keep the cone's
-// estimate (see visibility() in shaders/sdf_march.glsl.h).
+// Cycles). Now 60: seams crossed in under two and a half voxels keep the
+// cone's estimate (see visibility() in shaders/sdf_march.glsl.h).
 TEST_F(RendererTest, NoSunThroughTheCornersAndCeilingSeamsOfAThinWalledRoom) {
   Mesh walls = reference::box({-3.15f, -2.65f, 0.0f}, {-3.0f, 2.65f, 2.7f});
   reference::append(walls, reference::box({3.0f, -2.65f, 0.0f}, {3.15f, 2.65f, 2.7f}));
