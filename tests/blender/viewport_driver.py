@@ -4,9 +4,11 @@ with Cycles, an object moved from Python, and frame changes (memory, and
 the time of a frame change plus redraw against EEVEE's in the same run).
 
 xvfb-run -a -s "-screen 0 1280x800x24" blender --window-geometry 0 0 1200 760 --addons rtsdf \
-    SCENE.blend --python tests/blender/viewport_driver.py -- OUT_DIR [--moving OBJECT] [--frames N] [--compare-eevee]
-    [--scale S] [--pixel-size N] [--compare-full-first-frame] [--compare-no-temporal-reuse] [--field-views]
+    SCENE.blend --python tests/blender/viewport_driver.py -- OUT_DIR [--moving OBJECT] [--ground OBJECT] [--frames N]
+    [--compare-eevee] [--scale S] [--pixel-size N] [--compare-full-first-frame] [--compare-no-temporal-reuse] [--field-views]
 
+--ground names the receiver whose shadow masks are compared with Cycles'
+(default Ground: the sample scenes' ground plane; a terrain, say, elsewhere).
 --compare-full-first-frame times the frame changes again with Quick First
 Frame off (every pixel marches its lights), after EEVEE's;
 --compare-no-temporal-reuse with Temporal Reuse off (each frame change starts
@@ -38,6 +40,7 @@ from bpy_extras.view3d_utils import location_3d_to_region_2d
 args = sys.argv[sys.argv.index("--") + 1:]
 OUT = args[0]
 MOVING = args[args.index("--moving") + 1] if "--moving" in args else "Sphere"
+GROUND = args[args.index("--ground") + 1] if "--ground" in args else "Ground"
 FRAMES = int(args[args.index("--frames") + 1]) if "--frames" in args else 100
 COMPARE_EEVEE = "--compare-eevee" in args
 SCALE = float(args[args.index("--scale") + 1]) if "--scale" in args else None
@@ -107,12 +110,12 @@ def viewport_in_camera_pixels(shot, area, region, frame, width, height):
 
 
 def ground_mask(scene, width, height):
-    """Camera pixels whose ray meets the ground (z = 0) inside its square and no other object first."""
+    """Camera pixels whose ray meets the ground (GROUND) first, inside its square (the middle 98%)."""
     depsgraph = bpy.context.evaluated_depsgraph_get()
     camera = scene.camera
     frame = [camera.matrix_world @ c for c in camera.data.view_frame(scene=scene)]
     origin = camera.matrix_world.translation
-    ground = bpy.data.objects["Ground"]
+    ground = bpy.data.objects[GROUND]
     half = max(ground.dimensions.x, ground.dimensions.y) / 2
     mask = np.zeros((height, width), dtype=bool)
     # view_frame: top right, bottom right, bottom left, top left.
@@ -123,7 +126,7 @@ def ground_mask(scene, width, height):
             bottom = frame[2].lerp(frame[1], u)
             direction = (top.lerp(bottom, v) - origin).normalized()
             hit, location, _, _, obj, _ = scene.ray_cast(depsgraph, origin, direction)
-            mask[row, col] = hit and obj.name == "Ground" and abs(location.x) < half * 0.98 and abs(location.y) < half * 0.98
+            mask[row, col] = hit and obj.name == GROUND and abs(location.x) < half * 0.98 and abs(location.y) < half * 0.98
     return mask
 
 
