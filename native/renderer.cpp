@@ -487,6 +487,8 @@ void Renderer::begin(GpuScene& scene, const Camera& camera, const std::vector<Li
   for (const Instance& instance : scene.instances()) transforms.push_back(instance.object_to_world);
   instance_motions_ = world_motions(has_history_ ? drawn_transforms_ : transforms, transforms);
   put_shadow_movers(scene, instance_motions_, frame_data_);
+  for (size_t i = 0; i < instance_motions_.size(); ++i)  // (the history bits of all that moved: shared.h)
+    if (instance_motions_[i] != glm::mat4(1.0f)) frame_data_.shadow_counts.z |= 1u << (i % gpu::kHistoryBits);
   if (has_history_ && scene_changed && last_changes_) {
     auto put = [](const Bounds& box, glm::vec4& lo, glm::vec4& hi) {
       lo = glm::vec4(box.lo, 1.0f), hi = glm::vec4(box.hi, 1.0f);

@@ -2,7 +2,7 @@
 // kHoldoutSurface where a holdout is seen), shading
 // normal (interpolated for smooth meshes, else the triangle's plane, from the
 // screen derivatives of the position: shading turns it to face the camera),
-// base colour (the face's material slot: its colour, times the vertex
+// (w: the instance's history bit, shared.h's kHistoryBits), base colour (the face's material slot: its colour, times the vertex
 // colour where it takes that, or its image sampled at the UV) with a = the world voxel size of the field holding the surface
 // (0: only a receiver, in no field), and motion: xy = where this surface
 // point was on screen in the last frame, from where it is now (normalized
@@ -70,7 +70,7 @@ void main() {
   float smooth_length = length(v_smooth_normal);
   vec3 face = cross(dFdx(v_world), dFdy(v_world));
   vec3 face_normal = dot(face, face) > 0.0 ? normalize(face) : vec3(0.0, 0.0, 1.0);
-  out_normal = vec4(smooth_length > 1e-6 ? v_smooth_normal / smooth_length : face_normal, 0.0);
+  out_normal = vec4(smooth_length > 1e-6 ? v_smooth_normal / smooth_length : face_normal, float(pc.history_bit));
   out_albedo = vec4(base_color(), pc.field_voxel);
   vec4 steady_clip = frame.steady_world_to_clip * vec4(v_world, 1.0);
   vec3 previous_world = vec4(v_world, 1.0) * pc.world_to_previous_world;

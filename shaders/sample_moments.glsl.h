@@ -1,6 +1,7 @@
 // The running second moments of a pixel's samples, beside their running
 // means (the accumulation): the Y, Co and Cg of the Combined colour,
-// squared (w: unused). Their spread is the pixel's own noise, known after
+// squared; w: the instances its samples saw (their bits, shared.h's
+// kHistoryBits, as a whole number), which is no mean. Their spread is the pixel's own noise, known after
 // its samples, where one frame's neighbourhood can only guess it: the world
 // light's few cones give near-discrete values, and a few neighbours' often
 // agree exactly, while the samples of one pixel over frames do not.
@@ -27,4 +28,10 @@ vec3 sample_sigma(vec4 moments, vec3 color) {
 vec4 moments_moved_to(vec4 moments, vec3 mean, vec3 moved) {
   vec3 sigma = sample_sigma(moments, mean), y = to_ycocg(moved);
   return vec4(y * y + sigma * sigma, 0.0);
+}
+
+// The history bit of the instance a G-buffer pixel shows (none where it
+// shows no surface). Needs g_normal (its w holds the bit).
+uint surface_bits(ivec2 pixel, vec4 position) {
+  return position.w > 0.0 ? 1u << uint(imageLoad(g_normal, pixel).w) : 0u;
 }

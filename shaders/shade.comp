@@ -117,5 +117,7 @@ void main() {
   float farthest = samples > 0.0 ? max(previous_passes.w, seen) : seen;
   imageStore(accum_passes, pixel, vec4(nearest, mix(previous_passes.y, shadow, w), samples + 1.0, farthest));
   vec4 previous_moments = pc.accumulation_frame == 0 ? vec4(0.0) : imageLoad(accum_moments, pixel);
-  imageStore(accum_moments, pixel, mix(previous_moments, sample_moments(color), w));
+  vec4 moments = mix(previous_moments, sample_moments(color), w);
+  moments.w = float(uint(previous_moments.w) | surface_bits(pixel, position));  // (the instances its samples saw)
+  imageStore(accum_moments, pixel, moments);
 }

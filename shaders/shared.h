@@ -165,6 +165,8 @@ struct FrameData {
   // them (one holding them all where they are more than kMaxShadowMovers):
   // a light path that meets none of them is shadowed by what moved alone.
   vec4 still_casters[2 * kMaxShadowMovers];
+  // x: shadow movers, y: still casters (above); z: the history bits (kHistoryBits) of every
+  // instance placed elsewhere since the last frame, casting shadows or not.
   uvec4 shadow_counts;
 };
 
@@ -182,8 +184,18 @@ struct GBufferPush {
   float field_voxel;    // world size of a voxel of the field holding this surface (0: only a receiver, in no field)
   uint first_material;  // its material slots in the scene's materials (the vertices give the slot)
   uint material_count;  // 0: base_color everywhere (and the pipeline without per-vertex material inputs)
-  uint pad0;
+  uint history_bit;     // the instance's bit among kHistoryBits (its index modulo them; see the G-buffer's normal.w)
 };
+
+// Each pixel's accumulation keeps which instances its samples saw, as bits
+// (instance index modulo kHistoryBits) in its second moments' w (a float:
+// exact up to 24 bits), and FrameData::shadow_counts.z holds the bits of the
+// instances placed elsewhere since the last frame. A pixel whose history saw
+// one of them, now showing something else, holds an object that has left it
+// (temporal_history.glsl.h, front_moved): its depth alone cannot tell where
+// the object lay closer in front of the surface than a pixel's spread of
+// depths (ivy on its wall).
+const uint kHistoryBits = 24u;
 
 // A material slot as the G-buffer reads it (Material, Texture in scene.h).
 struct GpuMaterial {

@@ -83,6 +83,9 @@ bool saw_depth(vec4 range, float depth) {
   return depth >= range.x * (1.0 - pc.depth_tolerance) && depth <= range.w * (1.0 + pc.depth_tolerance);
 }
 
+// The instances the samples of a pixel's history saw (their bits: see kHistoryBits).
+uint history_bits(ivec2 pixel) { return uint(imageLoad(history_moments, pixel).w); }
+
 bool same_depth(ivec2 q, float depth) {
   return saw_depth(imageLoad(history_passes, clamp(q, ivec2(0), pc.image_size - 1)), depth);
 }
@@ -318,7 +321,17 @@ History find_history(ivec2 pixel, vec4 position) {
     // ray, read bilinearly: a moved object's lies in the box of what moved,
     // casting shadows or not, give or take that many pixels; a whole box's
     // size more took in the ground's far edge, and the horizon never settled)
-    h.front_moved = h.nearest < depth * (1.0 - pc.depth_tolerance) &&
+    // Or, at a pixel whose surface stayed where it was, history saw an
+    // instance that moved and the pixel now shows one that did not (their
+    // bits: shared.h's kHistoryBits): that object lay closer in front of the
+    // surface than depths can tell. IvyGen's stems, a centimetre off their
+    // wall, passed for the wall, and after the ivy moved their image stayed
+    // on it, settled for good.
+    uint moved_bits = frame.shadow_counts.z;
+    bool stayed = all(lessThan(abs(at - vec2(pixel)), vec2(1e-3)));
+    bool saw_mover = stayed && (history_bits(pixel) & moved_bits) != 0u &&
+                     (surface_bits(pixel, position) & moved_bits) == 0u;
+    h.front_moved = (h.nearest < depth * (1.0 - pc.depth_tolerance) || saw_mover) &&
                     within_box(history_front, frame.moved_lo, frame.moved_hi,
                                (pc.jitter_reach + 2.0) * pixel_width_at(history_front));
   }

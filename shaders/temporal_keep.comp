@@ -36,6 +36,7 @@ layout(binding = 14, rgba32f) uniform writeonly image2D resolved_moments;
 // The tiles it runs over, a work group each (x + tiles across * y).
 layout(std430, binding = 15) readonly buffer KeepTiles { uint keep_tiles[]; };
 #define RTSDF_LISTS_TILES
+#include "sample_moments.glsl.h"  // (the instances a pixel's samples saw)
 #include "temporal_history.glsl.h"
 
 void main() {

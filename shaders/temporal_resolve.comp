@@ -109,7 +109,8 @@ vec3 filtered_sample(ivec2 pixel, vec3 p, vec3 current, inout float shadow) {
 // The resolved accumulation of a pixel shaded this frame (its sample
 // `current` and `passes`, at G-buffer `position`) with its History h.
 Resolved resolve(ivec2 pixel, vec4 position, vec4 current, vec4 passes, History h) {
-  const vec4 sample_second = sample_moments(current.rgb);  // (the sample's own, before any filter)
+  vec4 sample_second = sample_moments(current.rgb);  // (the sample's own, before any filter)
+  sample_second.w = float(surface_bits(pixel, position));
   bool background = position.w <= 0.0;
   bool surface = !background && position.w < 0.5 * (kShadedSurface + kHoldoutSurface);
 
@@ -204,10 +205,13 @@ Resolved resolve(ivec2 pixel, vec4 position, vec4 current, vec4 passes, History 
   float w = 1.0 / (samples + 1.0);  // this frame's sample's share
   // History's depths, moved as this surface point moved in depth since.
   float moved = background ? 0.0 : passes.x - h.previous_depth;
+  vec4 moments = mix(moments_moved_to(history_second, h.color.rgb, clipped), sample_second, w);
+  // (the instances seen: this sample's, and history's where the surface stayed on its pixel)
+  moments.w = float(surface_bits(pixel, position) | (h.still ? history_bits(pixel) : 0u));
   return Resolved(vec4(mix(clipped, current.rgb, w), current.a),
                   vec4(min(passes.x, h.nearest + moved), mix(shadow_history, passes.y, w), samples + 1.0,
                        max(passes.w, h.farthest + moved)),
-                  mix(moments_moved_to(history_second, h.color.rgb, clipped), sample_second, w));
+                  moments);
 }
 
 void main() {

@@ -112,6 +112,7 @@ void GBufferPass::record(VkCommandBuffer cmd, const GpuScene& scene, const vk::B
     push.field_voxel = field_voxels[i];
     push.first_material = slots.x;
     push.material_count = slots.y;
+    push.history_bit = uint32_t(i) % gpu::kHistoryBits;
     pipeline.push_constants(cmd, push);
     vkCmdDrawIndexed(cmd, 3 * mesh.triangle_count, 1, mesh.first_index, int32_t(mesh.base_vertex), 0);
   }
