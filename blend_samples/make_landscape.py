@@ -19,21 +19,23 @@ from sample_scene import add_camera, add_sun, finish, material, new_scene, sun_r
 
 out, scene = new_scene("landscape.blend")
 addon_utils.enable("ant_landscape", default_set=True)
-bpy.ops.mesh.landscape_add(refresh=True, subdivision_x=256, subdivision_y=256, mesh_size_x=2.0, mesh_size_y=2.0,
-                           random_seed=3, height=0.5)
-terrain = bpy.context.object
-terrain.name = "Terrain"
-terrain.scale = (12.0, 12.0, 8.0)
-terrain.data.materials.clear()
-terrain.data.materials.append(material("Terrain", (0.55, 0.5, 0.4)))
 
-bpy.ops.mesh.landscape_add(refresh=True, sphere_mesh=True, subdivision_x=64, subdivision_y=64, mesh_size=2.0,
-                           random_seed=11, height=0.3)
-rock = bpy.context.object
-rock.name = "Rock"
-rock.scale = (0.8, 0.8, 0.8)
-rock.data.materials.clear()
-rock.data.materials.append(material("Rock", (0.45, 0.45, 0.48)))
+
+def ant_object(name, scale, color, **options):
+    """An A.N.T. Landscape mesh (bpy.ops.mesh.landscape_add(**options)) named `name`, scaled, in one colour."""
+    bpy.ops.mesh.landscape_add(refresh=True, **options)
+    obj = bpy.context.object
+    obj.name = name
+    obj.scale = scale
+    obj.data.materials.clear()
+    obj.data.materials.append(material(name, color))
+    return obj
+
+
+terrain = ant_object("Terrain", (12.0, 12.0, 8.0), (0.55, 0.5, 0.4), subdivision_x=256, subdivision_y=256,
+                     mesh_size_x=2.0, mesh_size_y=2.0, random_seed=3, height=0.5)
+rock = ant_object("Rock", (0.8, 0.8, 0.8), (0.45, 0.45, 0.48), sphere_mesh=True, subdivision_x=64,
+                  subdivision_y=64, mesh_size=2.0, random_seed=11, height=0.3)
 rock["rtsdf_bench_mover"] = True
 # On the terrain near (2, -4): its lowest point a little into the ground, as a rock lies.
 bpy.context.view_layer.update()
