@@ -1,13 +1,15 @@
 // G-buffer, fragment stage: world position (w = kShadedSurface where covered,
 // kHoldoutSurface where a holdout is seen), shading
 // normal (interpolated for smooth meshes, else the triangle's plane, from the
-// screen derivatives of the position: shading turns it to face the camera),
-// (w: the instance's history bit, shared.h's kHistoryBits), base colour (the face's material slot: its colour, times the vertex
-// colour where it takes that, or its image sampled at the UV) with a = the world voxel size of the field holding the surface
-// (0: only a receiver, in no field), and motion: xy = where this surface
-// point was on screen in the last frame, from where it is now (normalized
-// device coordinates, both without the jitter), z = its depth from the last
-// frame's camera, w = 1 (0: it was behind that camera).
+// screen derivatives of the position: shading turns it to face the camera;
+// w: the instance's history bit, see shared.h's kHistoryBits), base colour
+// (the face's material slot: its colour, times the vertex colour where it
+// takes that, or its image sampled at the UV) with a = the world voxel size
+// of the field holding the surface (0: only a receiver, in no field), and
+// motion: xy = where this surface point was on screen in the last frame,
+// from where it is now (normalized device coordinates, both without the
+// jitter), z = its depth from the last frame's camera, w = 1 (0: it was
+// behind that camera).
 //
 // The slot comes from the vertex (GpuScene uploads a vertex shared by faces
 // of several slots once per slot): read from gl_PrimitiveID instead, lavapipe

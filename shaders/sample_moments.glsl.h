@@ -1,10 +1,11 @@
 // The running second moments of a pixel's samples, beside their running
 // means (the accumulation): the Y, Co and Cg of the Combined colour,
-// squared; w: the instances its samples saw (their bits, shared.h's
-// kHistoryBits, as a whole number), which is no mean. Their spread is the pixel's own noise, known after
-// its samples, where one frame's neighbourhood can only guess it: the world
-// light's few cones give near-discrete values, and a few neighbours' often
-// agree exactly, while the samples of one pixel over frames do not.
+// squared (w, no mean: the instances its samples saw, their bits as a
+// whole number, see shared.h's kHistoryBits). Their spread is the pixel's
+// own noise, known after its samples, where one frame's neighbourhood can
+// only guess it: the world light's few cones give near-discrete values, and
+// a few neighbours' often agree exactly, while the samples of one pixel over
+// frames do not.
 vec3 to_ycocg(vec3 c) {
   return vec3(0.25 * c.r + 0.5 * c.g + 0.25 * c.b, 0.5 * c.r - 0.5 * c.b, -0.25 * c.r + 0.5 * c.g - 0.25 * c.b);
 }
