@@ -206,8 +206,9 @@ Resolved resolve(ivec2 pixel, vec4 position, vec4 current, vec4 passes, History 
   // History's depths, moved as this surface point moved in depth since.
   float moved = background ? 0.0 : passes.x - h.previous_depth;
   vec4 moments = mix(moments_moved_to(history_second, h.color.rgb, clipped), sample_second, w);
-  // (the instances seen: this sample's, and history's where the surface stayed on its pixel)
-  moments.w = float(surface_bits(pixel, position) | (h.still ? history_bits(pixel) : 0u));
+  // (the instances seen: this sample's, and history's where the surface stayed on its pixel, whose
+  // moments history_second holds; a moving pixel's are made from its colour, with none)
+  moments.w = float(surface_bits(pixel, position) | uint(history_second.w));
   return Resolved(vec4(mix(clipped, current.rgb, w), current.a),
                   vec4(min(passes.x, h.nearest + moved), mix(shadow_history, passes.y, w), samples + 1.0,
                        max(passes.w, h.farthest + moved)),

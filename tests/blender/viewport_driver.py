@@ -299,7 +299,7 @@ def field_views(scene, space, window, area, region, wait_converged, screenshot):
     show_rendered_through_camera(scene, space, window, area, region)
     yield from wait_converged(time.perf_counter())
     shaded = screenshot("field_view_none.png")
-    heights = [o.matrix_world.translation.z for o in scene.objects if o.type == "MESH" and o.name != "Ground"]
+    heights = [o.matrix_world.translation.z for o in scene.objects if o.type == "MESH" and o.name != GROUND]
     scene.rtsdf.field_view_height = float(np.mean(heights)) if heights else 0.0
     results["field_views"] = {}
     for view in ("distance_slice", "march_steps", "field_resolution", "exact_rays"):
