@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <unordered_map>
 
 #include "error.h"
 #include "vk/context.h"
@@ -116,6 +117,7 @@ void ObjectFields::sync(GpuScene& scene, const ObjectFieldSettings& settings, Ma
   settings_ = settings;
   if (scene.id() != scene_id_) {
     fields_.clear();
+    digests_.clear();
     scene_id_ = scene.id();
   }
   stats_ = {};
@@ -137,6 +139,41 @@ void ObjectFields::sync(GpuScene& scene, const ObjectFieldSettings& settings, Ma
   }
   meshes = kept;
 
+  // Meshes of one geometry share one field, the first one's: importers
+  // (Collada, FBX, OBJ) give each copy of a part its own mesh, as does a
+  // duplicate that is not linked, and a field for each made a scene of 64
+  // copies of one 12-triangle box take two minutes (assimp's
+  // anims_with_full_rotations_between_keys.DAE).
+  std::vector<size_t> twin(meshes.size());  // per mesh: the index (in meshes) of the mesh whose field it reads
+  {
+    std::unordered_map<uint64_t, std::vector<size_t>> firsts;  // digest -> meshes with a field of their own
+    for (size_t k = 0; k < meshes.size(); ++k) {
+      twin[k] = k;
+      const Mesh& mesh = scene.scene().meshes[meshes[k]];
+      std::vector<size_t>& same_digest = firsts[digest(scene, meshes[k])];
+      for (size_t j : same_digest) {
+        const Mesh& first = scene.scene().meshes[meshes[j]];
+        if (first.positions == mesh.positions && first.indices == mesh.indices) {
+          twin[k] = j;
+          break;
+        }
+      }
+      if (twin[k] == k) same_digest.push_back(k);
+    }
+  }
+  std::vector<uint32_t> owners;  // the meshes with a field, in mesh order
+  std::vector<Bounds> owner_bounds;
+  std::vector<size_t> field_index(meshes.size());  // per mesh: its field in fields_
+  for (size_t k = 0; k < meshes.size(); ++k) {
+    if (twin[k] != k) {
+      field_index[k] = field_index[twin[k]];
+      continue;
+    }
+    field_index[k] = owners.size();
+    owners.push_back(meshes[k]);
+    owner_bounds.push_back(bounds[k]);
+  }
+
   // Resolutions: each mesh's own, lowered alike until all fit the budget.
   const double budget = settings.budget_mb * 1024.0 * 1024.0;
   float scale = 1.0f;
@@ -147,10 +184,10 @@ void ObjectFields::sync(GpuScene& scene, const ObjectFieldSettings& settings, Ma
   for (int attempt = 0;; ++attempt) {
     const auto [coarse, fine] = resolutions(scale);
     double total = 0.0;
-    for (const Bounds& b : bounds) total += double(field_bytes(b, coarse, fine));
+    for (const Bounds& b : owner_bounds) total += double(field_bytes(b, coarse, fine));
     if (total <= budget) break;
     if (coarse == 8 || attempt == 32)
-      throw Error("the distance fields of " + std::to_string(meshes.size()) + " meshes need " +
+      throw Error("the distance fields of " + std::to_string(owners.size()) + " meshes need " +
                   std::to_string(int(total / (1 << 20))) + " MiB even at the coarsest resolution, over the budget of " +
                   std::to_string(int(settings.budget_mb)) + " MiB");
     scale *= std::min(0.95f, float(std::cbrt(budget / total)));
@@ -160,21 +197,22 @@ void ObjectFields::sync(GpuScene& scene, const ObjectFieldSettings& settings, Ma
 
   // Keep the fields of meshes still casting, in mesh order; (re)build what is stale.
   std::vector<Field> fields;
-  for (size_t k = 0; k < meshes.size(); ++k) {
-    auto old = std::find_if(fields_.begin(), fields_.end(), [&](const Field& f) { return f.mesh == meshes[k]; });
+  for (size_t k = 0; k < owners.size(); ++k) {
+    auto old = std::find_if(fields_.begin(), fields_.end(), [&](const Field& f) { return f.mesh == owners[k]; });
     Field field;
     if (old != fields_.end()) field = std::move(*old);
-    field.mesh = meshes[k];
-    // (the geometry's digest only when needed: it reads every vertex)
-    FieldKey key{field.key.geometry, coarse_resolution, fine_resolution, settings.beta, settings.fine, update_limit()};
+    field.mesh = owners[k];
+    FieldKey key{digest(scene, field.mesh), coarse_resolution, fine_resolution, settings.beta, settings.fine,
+                 update_limit()};
     if (!field.coarse || field.version != scene.mesh_version(field.mesh) || !(key == field.key)) {
-      key.geometry = geometry_digest(scene.scene().meshes[field.mesh]);
-      if (!reuse(scene, field, key)) rebuild(scene, field, bounds[k], coarse_resolution, fine_resolution);
+      if (!reuse(scene, field, key)) rebuild(scene, field, owner_bounds[k], coarse_resolution, fine_resolution);
       field.key = key;
     }
     fields.push_back(std::move(field));
   }
   fields_ = std::move(fields);
+  for (auto it = digests_.begin(); it != digests_.end();)  // (those of meshes gone from the casters)
+    it = std::binary_search(meshes.begin(), meshes.end(), it->first) ? std::next(it) : digests_.erase(it);
 
   // The march reads each field within the margin a tight grid would have
   // around its mesh: a deforming mesh's room holds only far values.
@@ -183,7 +221,7 @@ void ObjectFields::sync(GpuScene& scene, const ObjectFieldSettings& settings, Ma
     if (f.borrowed) continue;  // (laid out so by the renderer that refined it)
     const int coarse_longest = std::max(f.coarse_grid.dims.x, std::max(f.coarse_grid.dims.y, f.coarse_grid.dims.z));
     const float room = float(margin_voxels(coarse_longest)) * f.coarse_grid.voxel_size / f.fine_grid.voxel_size;
-    f.packed->set_layout(f.fine_grid, f.coarse_grid, bounds[k], room);
+    f.packed->set_layout(f.fine_grid, f.coarse_grid, owner_bounds[k], room);
   }
 
   // Place every caster instance of a mesh with a field.
@@ -192,7 +230,7 @@ void ObjectFields::sync(GpuScene& scene, const ObjectFieldSettings& settings, Ma
   for (uint32_t i : scene.shadow_casters()) {
     auto it = std::lower_bound(meshes.begin(), meshes.end(), instances[i].mesh);
     if (it == meshes.end() || *it != instances[i].mesh) continue;
-    const PackedField& field = *fields_[size_t(it - meshes.begin())].packed;
+    const PackedField& field = *fields_[field_index[size_t(it - meshes.begin())]].packed;
     placements_.push_back({&field, instances[i].object_to_world});
     const glm::vec2 stretch = singular_value_range(glm::mat3(instances[i].object_to_world));
     if (stretch.x > kDegenerateScale * stretch.y) instance_voxels_[i] = MarchFields::world_voxel(field, instances[i].object_to_world);
@@ -224,7 +262,22 @@ void ObjectFields::update_memory_stats() {
 const PackedField* ObjectFields::packed_field(uint32_t mesh) const {
   for (const Field& f : fields_)
     if (f.mesh == mesh && f.updates > 0) return f.packed.get();
+  // (a mesh that shares its twin's field)
+  auto own = digests_.find(mesh);
+  if (own == digests_.end()) return nullptr;
+  for (const Field& f : fields_) {
+    auto other = digests_.find(f.mesh);
+    if (other != digests_.end() && other->second.digest == own->second.digest && f.updates > 0) return f.packed.get();
+  }
   return nullptr;
+}
+
+uint64_t ObjectFields::digest(const GpuScene& scene, uint32_t mesh) {
+  const uint64_t version = scene.mesh_version(mesh);
+  auto it = digests_.find(mesh);
+  if (it == digests_.end() || it->second.version != version)
+    it = digests_.insert_or_assign(mesh, Digest{version, geometry_digest(scene.scene().meshes[mesh])}).first;
+  return it->second.digest;
 }
 
 void ObjectFields::pack(const std::vector<Field*>& fields) {

@@ -13,11 +13,14 @@
 // - The march reads each field packed (PackedField): bricks near the
 //   surfaces, the coarse SDF elsewhere. Once a field is refined its coarse
 //   and fine SDFs are freed, unless the mesh deforms and its history is kept.
+// - Meshes of one geometry (copies an importer or a duplicate made) share
+//   the first one's field.
 // - Each mesh's voxels come from its own size, under a memory budget.
 // - A refined field of a mesh that does not deform goes into the device's
 //   FieldCache (when given), and a later renderer's mesh of the same
 //   geometry and settings takes it instead of building its own.
 #include <cstdint>
+#include <map>
 #include <memory>
 #include <vector>
 
@@ -57,7 +60,7 @@ struct FieldMemory {
 };
 
 struct ObjectFieldStats {
-  int fields = 0;               // meshes with a field
+  int fields = 0;               // fields held (one per geometry among the meshes)
   int placed = 0;               // instances placed (sharing those fields)
   int regenerated = 0;          // fields (re)built by the last sync
   int reused = 0;               // fields the last sync took refined from the FieldCache
@@ -135,6 +138,12 @@ class ObjectFields {
   // Packs the fields for the march, with more room for those that need it.
   void pack(const std::vector<Field*>& fields);
   void update_memory_stats();
+  // A mesh's geometry_digest, read again only when its geometry changed.
+  uint64_t digest(const GpuScene& scene, uint32_t mesh);
+  struct Digest {
+    uint64_t version = 0;  // the mesh's version it was taken from
+    uint64_t digest = 0;
+  };
 
   const vk::Context& context_;
   std::shared_ptr<FieldCache> cache_;
@@ -143,7 +152,8 @@ class ObjectFields {
   std::shared_ptr<const FieldPackPass> pack_pass_;
   ObjectFieldSettings settings_;
   uint64_t scene_id_ = 0;
-  std::vector<Field> fields_;  // by mesh index, in the march's layout order
+  std::vector<Field> fields_;  // by mesh index (of the first mesh of each geometry), in the march's layout order
+  std::map<uint32_t, Digest> digests_;  // per caster mesh
   std::vector<MarchFields::Placement> placements_;
   std::vector<float> instance_voxels_;
   ObjectFieldStats stats_;

@@ -179,7 +179,7 @@ bool same_settings(const RenderSettings& a, const RenderSettings& b);
 
 // What the SDF methods did, for the stats a user sees.
 struct RenderStats {
-  int fields = 0;               // distance fields held (rtsdf: one per mesh that casts shadows)
+  int fields = 0;               // distance fields held (rtsdf: one per geometry that casts shadows)
   int field_instances = 0;      // placed in the scene (rtsdf: instances share their mesh's field)
   int fields_regenerated = 0;   // fields (re)built by begin(): voxelized and jump flooded
   int fields_reused = 0;        // rtsdf: fields begin() took refined from another render (FieldCache)

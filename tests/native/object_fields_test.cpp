@@ -136,6 +136,54 @@ TEST_F(ObjectFieldsTest, InstancesShareOneField) {
   EXPECT_GT(dark, 100 * 3);
 }
 
+// Copies of one geometry as separate meshes (as Collada, FBX and OBJ
+// importers give each copy of a part, and a duplicate that is not linked)
+// share one field, and shade as instances of one mesh do; a copy changed in
+// one vertex, or deformed, has its own.
+TEST_F(ObjectFieldsTest, MeshesOfOneGeometryShareOneField) {
+  Scene copies;
+  copies.meshes = {reference::sheet({-8, -8}, {8, 8}, 0.0f)};
+  Scene instanced = copies;
+  instanced.meshes.push_back(reference::uv_sphere({0, 0, 0}, 0.2f, 16));
+  for (int i = 0; i < 16; ++i) {
+    const glm::mat4 place = glm::translate(glm::mat4(1.0f), {-3.0f + float(i % 4) * 2.0f, -3.0f + float(i / 4) * 2.0f, 0.5f});
+    copies.meshes.push_back(reference::uv_sphere({0, 0, 0}, 0.2f, 16));
+    copies.instances.push_back({uint32_t(i + 1), place});
+    instanced.instances.push_back({1, place});
+  }
+  copies.instances.push_back({0, glm::mat4(1.0f)});
+  instanced.instances.push_back({0, glm::mat4(1.0f)});
+  const RenderOutput shared = quick_render(copies, 5.0f, 96);
+  EXPECT_EQ(shared.stats.fields, 1);
+  EXPECT_EQ(shared.stats.field_instances, 16);
+  const RenderOutput one_mesh = quick_render(instanced, 5.0f, 96);
+  float worst = 0.0f;
+  for (size_t i = 0; i < shared.shadow.size(); ++i) worst = std::max(worst, std::abs(shared.shadow[i] - one_mesh.shadow[i]));
+  EXPECT_LT(worst, 1e-4) << "the copies shade as instances of one mesh";
+
+  copies.meshes[5].positions[0] += glm::vec3(0.0f, 0.0f, 0.01f);  // (one vertex of one copy)
+  EXPECT_EQ(quick_render(copies, 5.0f, 96).stats.fields, 2);
+
+  // A copy that deforms leaves the others' field; the same shape again joins it.
+  GpuScene gpu_scene(context(), copies);
+  Renderer renderer(context());
+  RenderSettings settings = viewport_settings();
+  auto restart = [&] {
+    renderer.begin(gpu_scene, top_view(5.0f), {overhead_sun()}, glm::vec3(0.1f), 32, 32, settings, true);
+  };
+  restart();
+  EXPECT_EQ(renderer.stats().fields, 2);
+  gpu_scene.set_mesh_positions(5, copies.meshes[1].positions);
+  restart();
+  EXPECT_EQ(renderer.stats().fields, 1) << "the changed copy, put back, shares the field again";
+  std::vector<glm::vec3> grown = copies.meshes[1].positions;
+  for (glm::vec3& p : grown) p *= 1.2f;
+  gpu_scene.set_mesh_positions(3, grown);
+  restart();
+  EXPECT_EQ(renderer.stats().fields, 2) << "a deformed copy has its own field";
+  EXPECT_EQ(renderer.stats().fields_regenerated, 1) << "and only it is built";
+}
+
 // sphere_box_ground() in a viewport-like render from above, run until its
 // fields are still.
 struct StillViewport {
