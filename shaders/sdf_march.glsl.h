@@ -145,7 +145,8 @@ vec2 span_in_fields(vec3 origin, vec3 inv_dir, float t_min, float t_max) {
 // than the cone is wide) about half the sky shone in.
 // crossed_sheet (out): the axis passed through a sheet of an occluder (left
 // it through a face turned away from the one it entered by: a wall, a leaf, a
-// plate, not the rim of a solid), and the cone was not found wholly blocked:
+// plate, not the rim of a solid) or where two solids touch, and the cone was
+// not found wholly blocked:
 // the returned share is then only a guess (see light_visibility).
 // classify: no share, only what the field can tell with epsilon (about its
 // own error) to spare: 1 where the whole cone stays epsilon clear of every
@@ -155,6 +156,7 @@ vec2 span_in_fields(vec3 origin, vec3 inv_dir, float t_min, float t_max) {
 float visibility(vec3 origin, vec3 dir, float t_min, float t_max, float tan_radius, float jitter, float escape,
                  vec3 own_normal, bool axis_blocks, bool classify, out bool crossed_sheet) {
   crossed_sheet = false;
+  sampled_contact = false;
   vec3 inv_dir = safe_inverse(dir);
   vec2 span = span_in_fields(origin, inv_dir, t_min, t_max);
   if (span.x >= span.y) return 1.0;
@@ -324,6 +326,8 @@ float visibility(vec3 origin, vec3 dir, float t_min, float t_max, float tan_radi
                        chord > max(max(4.0 * -deepest, 2.5 * crossing_voxel), tan_radius * exit);
     crossed_sheet = facing < -0.5 || thin_corner;
   }
+  // (or passed where two fields' solids touch: nearby_distance)
+  if (sampled_contact) crossed_sheet = true;
   return disk_visible(ratio);
 }
 
