@@ -50,6 +50,7 @@ def blender_side(path, image_path):
         else:
             bpy.ops.wm.read_factory_settings(use_empty=True)
             if extension in (".gltf", ".glb"):
+                np.bool = bool  # (Blender 3.4's glTF importer still uses it; Debian's numpy 1.24 removed it)
                 bpy.ops.import_scene.gltf(filepath=path)
             elif extension == ".obj":
                 bpy.ops.wm.obj_import(filepath=path)
