@@ -144,22 +144,13 @@ void ObjectFields::sync(GpuScene& scene, const ObjectFieldSettings& settings, Ma
   // duplicate that is not linked, and a field for each made a scene of 64
   // copies of one 12-triangle box take two minutes (assimp's
   // anims_with_full_rotations_between_keys.DAE).
+  // Told apart by their digests, as the FieldCache tells fields apart (the
+  // arrays compared on every sync cost a frame of a playback as much as
+  // reading every copy's vertices).
   std::vector<size_t> twin(meshes.size());  // per mesh: the index (in meshes) of the mesh whose field it reads
   {
-    std::unordered_map<uint64_t, std::vector<size_t>> firsts;  // digest -> meshes with a field of their own
-    for (size_t k = 0; k < meshes.size(); ++k) {
-      twin[k] = k;
-      const Mesh& mesh = scene.scene().meshes[meshes[k]];
-      std::vector<size_t>& same_digest = firsts[digest(scene, meshes[k])];
-      for (size_t j : same_digest) {
-        const Mesh& first = scene.scene().meshes[meshes[j]];
-        if (first.positions == mesh.positions && first.indices == mesh.indices) {
-          twin[k] = j;
-          break;
-        }
-      }
-      if (twin[k] == k) same_digest.push_back(k);
-    }
+    std::unordered_map<uint64_t, size_t> firsts;  // digest -> the first mesh of that geometry
+    for (size_t k = 0; k < meshes.size(); ++k) twin[k] = firsts.try_emplace(digest(scene, meshes[k]), k).first->second;
   }
   std::vector<uint32_t> owners;  // the meshes with a field, in mesh order
   std::vector<Bounds> owner_bounds;
