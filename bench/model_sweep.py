@@ -11,12 +11,13 @@ it on a ground plane under a sun, frames it with a camera and renders one
 frame with RTSDF (F12, 192x108, the Final preset's settings at 4 samples).
 Writes OUT/sweep.csv (file, outcome, seconds, triangles, message) and each
 image as OUT/images/N.png, and prints a tally of the outcomes:
-- ok: an image, every pixel finite;
+- ok: an image (its pixels are not checked for NaN: Blender clamps them in
+  a PNG, and an OpenEXR written and read back through Blender lost them
+  too: this sweep cannot see them);
 - reported: no image, and RTSDF's report says why (bad input, a scene
   too big): the user is told;
 - no_mesh: the file holds no mesh (an animation, a camera), or Blender
   could not import it (Blender's importers, not RTSDF, fail on it);
-- bad_image: an image with NaN or infinite pixels;
 - crashed: Blender died or hung (past --timeout): a bug.
 Run with the add-on installed as the README's setup installs it (Blender
 finds it in BLENDER_USER_SCRIPTS, which this sets to the build's copy when
@@ -105,9 +106,7 @@ def blender_side(path, image_path):
     if not os.path.exists(image_path):
         say("reported", "no image", triangles)
         return
-    image = bpy.data.images.load(image_path)
-    values = np.array(image.pixels[:])
-    say("ok" if np.all(np.isfinite(values)) else "bad_image", "", triangles)
+    say("ok", "", triangles)
 
 
 def driver():
@@ -159,7 +158,7 @@ def driver():
         writer.writerow(["file", "outcome", "seconds", "triangles", "message"])
         writer.writerows(rows)
     print(", ".join(f"{k} {v}" for k, v in sorted(tally.items())), f"of {len(files)} files")
-    return 1 if tally.get("crashed") or tally.get("bad_image") else 0
+    return 1 if tally.get("crashed") else 0
 
 
 if __name__ == "__main__":
