@@ -99,6 +99,12 @@ const GpuScene::RayStructures& GpuScene::ray_structures() {
   return rays_;
 }
 
+const Bvh& GpuScene::mesh_bvh(uint32_t mesh) {
+  ray_structures();
+  if (mesh >= scene_.meshes.size()) throw Error("mesh_bvh: no mesh " + std::to_string(mesh));
+  return bottom_levels_[mesh].bvh;
+}
+
 GpuScene::RayTargets GpuScene::mesh_rays(uint32_t mesh) {
   const RayStructures& rays = ray_structures();
   if (mesh >= scene_.meshes.size()) throw Error("mesh_rays: no mesh " + std::to_string(mesh));

@@ -110,6 +110,9 @@ class GpuScene {
   // instance over its bottom level), for tracing its object-space field.
   // Builds the ray structures first if needed.
   RayTargets mesh_rays(uint32_t mesh);
+  // One mesh's bottom level as built on the host (object space; see bvh.h).
+  // Builds the ray structures first if needed.
+  const Bvh& mesh_bvh(uint32_t mesh);
   // Object-space bounds of a mesh's vertices (empty for a mesh without any).
   Bounds mesh_bounds(uint32_t mesh) const;
   // Counts the shape changes of a mesh (set_mesh or set_mesh_positions with

@@ -5,6 +5,7 @@
 #include <unordered_map>
 
 #include "error.h"
+#include "mesh_detail.h"
 #include "vk/context.h"
 
 namespace rtsdf {
@@ -118,6 +119,7 @@ void ObjectFields::sync(GpuScene& scene, const ObjectFieldSettings& settings, Ma
   if (scene.id() != scene_id_) {
     fields_.clear();
     digests_.clear();
+    features_.clear();
     scene_id_ = scene.id();
   }
   stats_ = {};
@@ -165,18 +167,36 @@ void ObjectFields::sync(GpuScene& scene, const ObjectFieldSettings& settings, Ma
     owner_bounds.push_back(bounds[k]);
   }
 
-  // Resolutions: each mesh's own, lowered alike until all fit the budget.
+  // Resolutions: each mesh's own, times its detail's factor (mesh_detail.h),
+  // lowered alike until all fit the budget.
+  // A mesh that deforms keeps its size's resolution: its field is traced
+  // anew every frame, and the trace's cost grows with the square of the
+  // resolution. A rigid mesh's is traced once.
+  std::vector<float> details(owners.size(), 1.0f);
+  for (size_t k = 0; k < owners.size(); ++k) {
+    auto old = std::find_if(fields_.begin(), fields_.end(), [&](const Field& f) { return f.mesh == owners[k]; });
+    const bool deforms = old != fields_.end() && (old->deforms || (old->coarse && old->version != scene.mesh_version(old->mesh)));
+    const glm::vec3 e = owner_bounds[k].extent();
+    if (!deforms)
+      details[k] = detail_scale(feature_size(scene, owners[k]), std::max(e.x, std::max(e.y, e.z)),
+                                settings.fine_resolution);
+  }
   const double budget = settings.budget_mb * 1024.0 * 1024.0;
   float scale = 1.0f;
   auto resolutions = [&](float s) {
     const int coarse = std::max(8, int(std::lround(settings.coarse_resolution * s)));
-    return std::pair{coarse, std::max(coarse, int(std::lround(settings.fine_resolution * s)))};
+    const int fine = std::min(int(gpu::kMaxGridResolution), int(std::lround(settings.fine_resolution * s)));
+    return std::pair{coarse, std::max(coarse, fine)};
   };
   for (int attempt = 0;; ++attempt) {
-    const auto [coarse, fine] = resolutions(scale);
     double total = 0.0;
-    for (const Bounds& b : owner_bounds) total += double(field_bytes(b, coarse, fine));
-    if (total <= budget) break;
+    int coarse = 0;
+    for (size_t k = 0; k < owners.size(); ++k) {
+      const auto [c, f] = resolutions(scale * details[k]);
+      total += double(field_bytes(owner_bounds[k], c, f));
+      coarse = std::max(coarse, c);
+    }
+    if (total <= budget || owners.empty()) break;
     if (coarse == 8 || attempt == 32)
       throw Error("the distance fields of " + std::to_string(owners.size()) + " meshes need " +
                   std::to_string(int(total / (1 << 20))) + " MiB even at the coarsest resolution, over the budget of " +
@@ -184,7 +204,6 @@ void ObjectFields::sync(GpuScene& scene, const ObjectFieldSettings& settings, Ma
     scale *= std::min(0.95f, float(std::cbrt(budget / total)));
   }
   stats_.resolution_scale = scale;
-  const auto [coarse_resolution, fine_resolution] = resolutions(scale);
 
   // Keep the fields of meshes still casting, in mesh order; (re)build what is stale.
   std::vector<Field> fields;
@@ -193,6 +212,7 @@ void ObjectFields::sync(GpuScene& scene, const ObjectFieldSettings& settings, Ma
     Field field;
     if (old != fields_.end()) field = std::move(*old);
     field.mesh = owners[k];
+    const auto [coarse_resolution, fine_resolution] = resolutions(scale * details[k]);
     FieldKey key{digest(scene, field.mesh), coarse_resolution, fine_resolution, settings.beta, settings.fine,
                  update_limit()};
     if (!field.coarse || field.version != scene.mesh_version(field.mesh) || !(key == field.key)) {
@@ -204,6 +224,8 @@ void ObjectFields::sync(GpuScene& scene, const ObjectFieldSettings& settings, Ma
   fields_ = std::move(fields);
   for (auto it = digests_.begin(); it != digests_.end();)  // (those of meshes gone from the casters)
     it = std::binary_search(meshes.begin(), meshes.end(), it->first) ? std::next(it) : digests_.erase(it);
+  for (auto it = features_.begin(); it != features_.end();)
+    it = std::binary_search(owners.begin(), owners.end(), it->first) ? std::next(it) : features_.erase(it);
 
   // The march reads each field within the margin a tight grid would have
   // around its mesh: a deforming mesh's room holds only far values.
@@ -261,6 +283,14 @@ const PackedField* ObjectFields::packed_field(uint32_t mesh) const {
     if (other != digests_.end() && other->second.digest == own->second.digest && f.updates > 0) return f.packed.get();
   }
   return nullptr;
+}
+
+float ObjectFields::feature_size(GpuScene& scene, uint32_t mesh) {
+  const Mesh& geometry = scene.scene().meshes[mesh];
+  auto it = features_.find(mesh);
+  if (it == features_.end() || it->second.triangles != geometry.triangle_count())
+    it = features_.insert_or_assign(mesh, Feature{geometry.triangle_count(), mesh_feature_size(geometry, scene.mesh_bvh(mesh))}).first;
+  return it->second.size;
 }
 
 uint64_t ObjectFields::digest(const GpuScene& scene, uint32_t mesh) {

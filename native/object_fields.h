@@ -140,6 +140,8 @@ class ObjectFields {
   void update_memory_stats();
   // A mesh's geometry_digest, read again only when its geometry changed.
   uint64_t digest(const GpuScene& scene, uint32_t mesh);
+  // The mesh's feature size, measured once per set of triangles (features_).
+  float feature_size(GpuScene& scene, uint32_t mesh);
   struct Digest {
     uint64_t version = 0;  // the mesh's version it was taken from
     uint64_t digest = 0;
@@ -154,6 +156,13 @@ class ObjectFields {
   uint64_t scene_id_ = 0;
   std::vector<Field> fields_;  // by mesh index (of the first mesh of each geometry), in the march's layout order
   std::map<uint32_t, Digest> digests_;  // per caster mesh
+  // A mesh's feature size (mesh_detail.h), kept while its triangles are the
+  // same ones: a deforming mesh keeps its first shape's, and so its grid.
+  struct Feature {
+    size_t triangles = 0;
+    float size = 0.0f;
+  };
+  std::map<uint32_t, Feature> features_;  // per mesh with a field
   std::vector<MarchFields::Placement> placements_;
   std::vector<float> instance_voxels_;
   ObjectFieldStats stats_;

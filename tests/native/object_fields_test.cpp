@@ -9,6 +9,7 @@
 
 #include "error.h"
 #include "march_fields.h"
+#include "mesh_detail.h"
 #include "mesh_import.h"
 #include "reference/shapes.h"
 #include "renderer.h"
@@ -215,6 +216,81 @@ TEST_F(ObjectFieldsTest, DeformationRebuildsOnlyThatMesh) {
   EXPECT_EQ(view.renderer.stats().fields_regenerated, 1) << "only the deformed mesh's field is rebuilt";
   view.renderer.add_frame();
   EXPECT_GT(view.renderer.stats().last_frame_traced_texels, 0u) << "and refined";
+}
+
+// A mesh's voxel comes from its size and its detail (mesh_detail.h): a
+// plate thinner than its size's voxel gets twice the resolution that a cube
+// of the same extent gets; once it deforms (traced anew every frame) it
+// takes its size's alone.
+TEST_F(ObjectFieldsTest, ThinPartsGetFinerVoxelsUnlessTheyDeform) {
+  Scene scene;
+  scene.meshes = {reference::box({-1, -1, 0}, {1, 1, 0.005f}), reference::box({-1, -1, -1}, {1, 1, 1}),
+                  reference::sheet({-6, -6}, {6, 6}, 0.0f)};
+  scene.instances = {{0, glm::translate(glm::mat4(1.0f), {-2.5f, 0, 1.0f})},
+                     {1, glm::translate(glm::mat4(1.0f), {2.5f, 0, 1.5f})},
+                     {2, glm::mat4(1.0f)}};
+  GpuScene gpu_scene(context(), scene);
+  Renderer renderer(context());
+  auto restart = [&] {
+    renderer.begin(gpu_scene, top_view(5.0f), {overhead_sun()}, glm::vec3(0.1f), 32, 32, viewport_settings(), true);
+  };
+  auto voxel = [&](uint32_t mesh) {
+    for (const FieldMemory& f : renderer.stats().per_field)
+      if (f.mesh == mesh) return f.voxel_size;
+    return 0.0f;
+  };
+  restart();
+  ASSERT_GT(voxel(1), 0.0f);
+  // (within the grids' margins, a few voxels that depend on the resolution)
+  EXPECT_NEAR(voxel(0), voxel(1) / kMaxDetailScale, 0.1f * voxel(1) / kMaxDetailScale) << "the plate: half the cube's voxel";
+  std::vector<glm::vec3> bent = scene.meshes[0].positions;
+  bent[0].z += 0.01f;
+  gpu_scene.set_mesh_positions(0, bent);
+  restart();
+  EXPECT_GE(voxel(0), 0.999f * voxel(1)) << "a deforming plate: no finer than its size's voxel";
+}
+
+// Slats thinner than their size's voxel with gaps as wide as they are, high
+// above the ground under a sun at an angle: the field alone (no exact rays)
+// lets the light through the gaps onto the ground beside them as the exact
+// rays do. Read as slabs a voxel thick on either side at their size's
+// resolution, they narrowed the gaps.
+TEST_F(ObjectFieldsTest, LightPassesBetweenSlatsThinnerThanAVoxel) {
+  Scene scene;
+  Mesh slats;
+  for (int i = 0; i < 10; ++i) {
+    const float x = -1.0f + 0.2f * float(i);
+    reference::append(slats, reference::box({x, -1.0f, 3.0f}, {x + 0.1f, 1.0f, 3.003f}));
+  }
+  scene.meshes = {slats, reference::sheet({-6, -6}, {6, 6}, 0.0f)};
+  scene.instances = {{0, glm::mat4(1.0f)}, {1, glm::mat4(1.0f)}};
+  Light sun;
+  sun.type = LightType::Sun;
+  sun.direction = glm::normalize(glm::vec3(-0.75f, 0.0f, -1.0f));  // (the slats' shadow 2.25 along -x)
+  sun.energy = 3.0f;
+  sun.sun_angle = 0.005f;
+  Camera camera;  // (over the ground in the slats' shadow, beside them)
+  camera.world_to_view = glm::lookAt(glm::vec3(-2.3f, 0, 10), glm::vec3(-2.3f, 0, 0), glm::vec3(0, 1, 0));
+  camera.projection = glm::orthoRH_NO(-0.7f, 0.7f, -0.7f, 0.7f, 0.1f, 20.0f);
+  camera.orthographic = true;
+  auto lit_share = [&](ShadowMethod method) {
+    GpuScene gpu_scene(context(), scene);
+    RenderSettings settings;
+    settings.shadow_method = method;
+    settings.exact_rays = 0;
+    settings.coarse_resolution = 32;
+    settings.fine_resolution = 48;
+    settings.samples = 16;
+    Renderer renderer(context());
+    const RenderOutput out = renderer.render(gpu_scene, camera, {sun}, glm::vec3(0.0f), 96, 96, settings);
+    double lit = 0.0;
+    for (float v : out.shadow) lit += v;
+    return lit / double(out.shadow.size());
+  };
+  const double exact = lit_share(ShadowMethod::RayTraced), field = lit_share(ShadowMethod::Rtsdf);
+  EXPECT_GT(exact, 0.4);
+  EXPECT_LT(exact, 0.6);
+  EXPECT_NEAR(field, exact, 0.045) << "the ground's lit share in the slats' shadow";
 }
 
 // New geometry in place: the box's quads split along their other diagonals
