@@ -28,7 +28,7 @@ TEST(MeshDetailTest, FeatureSizeIsHowThinThePartsAndTheGapsBetweenThemAre) {
   EXPECT_TRUE(std::isinf(feature_size(degenerate))) << "no area";
 }
 
-TEST(MeshDetailTest, ResolutionRisesUntilThinPartsSpanAVoxelUpToTwice) {
+TEST(MeshDetailTest, ResolutionRisesUntilThinPartsSpanAVoxelUpToACap) {
   EXPECT_FLOAT_EQ(detail_scale(0.5f, 10.0f, 100), 1.0f) << "parts wider than the voxel (0.1): its size's resolution";
   EXPECT_FLOAT_EQ(detail_scale(0.08f, 10.0f, 100), 1.25f) << "a voxel across the thin parts";
   EXPECT_FLOAT_EQ(detail_scale(0.001f, 10.0f, 100), kMaxDetailScale) << "capped";

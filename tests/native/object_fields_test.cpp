@@ -219,9 +219,9 @@ TEST_F(ObjectFieldsTest, DeformationRebuildsOnlyThatMesh) {
 }
 
 // A mesh's voxel comes from its size and its detail (mesh_detail.h): a
-// plate thinner than its size's voxel gets twice the resolution that a cube
-// of the same extent gets; once it deforms (traced anew every frame) it
-// takes its size's alone.
+// plate thinner than its size's voxel gets kMaxDetailScale times the
+// resolution that a cube of the same extent gets; once it deforms (traced
+// anew every frame) it takes its size's alone.
 TEST_F(ObjectFieldsTest, ThinPartsGetFinerVoxelsUnlessTheyDeform) {
   Scene scene;
   scene.meshes = {reference::box({-1, -1, 0}, {1, 1, 0.005f}), reference::box({-1, -1, -1}, {1, 1, 1}),
