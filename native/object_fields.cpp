@@ -175,7 +175,8 @@ void ObjectFields::sync(GpuScene& scene, const ObjectFieldSettings& settings, Ma
   std::vector<float> details(owners.size(), 1.0f);
   for (size_t k = 0; k < owners.size(); ++k) {
     auto old = std::find_if(fields_.begin(), fields_.end(), [&](const Field& f) { return f.mesh == owners[k]; });
-    const bool deforms = old != fields_.end() && (old->deforms || (old->coarse && old->version != scene.mesh_version(old->mesh)));
+    const bool deforms = old != fields_.end() &&
+                         (old->deforms || (old->coarse && old->version != scene.mesh_version(old->mesh)));
     const glm::vec3 e = owner_bounds[k].extent();
     if (!deforms)
       details[k] = detail_scale(feature_size(scene, owners[k]), std::max(e.x, std::max(e.y, e.z)),
@@ -289,7 +290,9 @@ float ObjectFields::feature_size(GpuScene& scene, uint32_t mesh) {
   const Mesh& geometry = scene.scene().meshes[mesh];
   auto it = features_.find(mesh);
   if (it == features_.end() || it->second.triangles != geometry.triangle_count())
-    it = features_.insert_or_assign(mesh, Feature{geometry.triangle_count(), mesh_feature_size(geometry, scene.mesh_bvh(mesh))}).first;
+    it = features_
+             .insert_or_assign(mesh, Feature{geometry.triangle_count(), mesh_feature_size(geometry, scene.mesh_bvh(mesh))})
+             .first;
   return it->second.size;
 }
 

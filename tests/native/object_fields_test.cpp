@@ -242,7 +242,8 @@ TEST_F(ObjectFieldsTest, ThinPartsGetFinerVoxelsUnlessTheyDeform) {
   restart();
   ASSERT_GT(voxel(1), 0.0f);
   // (within the grids' margins, a few voxels that depend on the resolution)
-  EXPECT_NEAR(voxel(0), voxel(1) / kMaxDetailScale, 0.1f * voxel(1) / kMaxDetailScale) << "the plate: half the cube's voxel";
+  EXPECT_NEAR(voxel(0), voxel(1) / kMaxDetailScale, 0.1f * voxel(1) / kMaxDetailScale)
+      << "the plate: the cube's voxel over the factor's cap";
   std::vector<glm::vec3> bent = scene.meshes[0].positions;
   bent[0].z += 0.01f;
   gpu_scene.set_mesh_positions(0, bent);
