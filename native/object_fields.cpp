@@ -213,6 +213,7 @@ void ObjectFields::sync(GpuScene& scene, const ObjectFieldSettings& settings, Ma
     Field field;
     if (old != fields_.end()) field = std::move(*old);
     field.mesh = owners[k];
+    field.detail = details[k];
     const auto [coarse_resolution, fine_resolution] = resolutions(scale * details[k]);
     FieldKey key{digest(scene, field.mesh), coarse_resolution, fine_resolution, settings.beta, settings.fine,
                  update_limit()};
@@ -264,7 +265,8 @@ void ObjectFields::update_memory_stats() {
   stats_.per_field.clear();
   for (const Field& f : fields_) {
     const size_t bytes = f.packed->bytes() + f.coarse->bytes() + f.fine->bytes();
-    stats_.per_field.push_back({f.mesh, bytes, f.packed->stored_bricks(), f.packed->brick_count(), f.fine_grid.voxel_size});
+    stats_.per_field.push_back(
+        {f.mesh, bytes, f.packed->stored_bricks(), f.packed->brick_count(), f.fine_grid.voxel_size, f.detail});
     stats_.bytes += bytes;
     stats_.dense_bytes += coarse_sdf_bytes(f.coarse_grid) + f.fine_grid.voxel_count() * (FineSdf::kBytesPerTexel + sizeof(float));
     stats_.stored_bricks += f.packed->stored_bricks();

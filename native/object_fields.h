@@ -57,6 +57,7 @@ struct FieldMemory {
   uint32_t stored_bricks = 0;  // of brick_count
   uint32_t brick_count = 0;
   float voxel_size = 0.0f;     // of its fine grid, in the mesh's own units
+  float detail = 1.0f;         // the factor its detail put on its resolutions (mesh_detail.h)
 };
 
 struct ObjectFieldStats {
@@ -117,6 +118,7 @@ class ObjectFields {
     uint32_t mesh = 0;
     uint64_t version = 0;
     int coarse_resolution = 0, fine_resolution = 0;
+    float detail = 1.0f;  // the factor its detail put on them (mesh_detail.h)
     float beta = 0.0f;
     GridSpec coarse_grid, fine_grid;
     std::unique_ptr<CoarseSdf> coarse;

@@ -247,9 +247,11 @@ def field_summary(stats, per_frame=False):
 
 def field_lines(stats, mesh_names):
     """One line per mesh's field for the render log: its memory, the bricks
-    it stores near its surfaces, and its voxel."""
+    it stores near its surfaces, and its voxel (with the factor its thin
+    parts put on its resolution, where they did)."""
     return [f"{mesh_names[f['mesh']] if f['mesh'] < len(mesh_names) else f['mesh']}: {f['mb']:.2f} MB, "
             f"{f['stored_bricks']} of {f['brick_count']} bricks, voxel {f['voxel_size']:.4g}"
+            + (f" ({f['detail']:.2f}x for its thin parts)" if f.get("detail", 1.0) > 1.0 else "")
             for f in stats.get("per_field", [])]
 
 

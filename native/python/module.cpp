@@ -250,7 +250,7 @@ py::dict stats_of(const rtsdf::RenderStats& s) {
   for (const rtsdf::FieldMemory& f : s.per_field)
     per_field.append(py::dict(py::arg("mesh") = f.mesh, py::arg("mb") = double(f.bytes) / (1 << 20),
                               py::arg("stored_bricks") = f.stored_bricks, py::arg("brick_count") = f.brick_count,
-                              py::arg("voxel_size") = f.voxel_size));
+                              py::arg("voxel_size") = f.voxel_size, py::arg("detail") = f.detail));
   stats["per_field"] = per_field;
   stats["resolution_scale"] = s.resolution_scale;
   stats["skipped_degenerate"] = s.skipped_degenerate;

@@ -133,6 +133,7 @@ class NativeModuleInBlender(unittest.TestCase):
         self.assertTrue(0 < cube["stored_bricks"] < cube["brick_count"], cube)
         self.assertLess(still["field_mb"], still["field_dense_mb"] / 4)
         self.assertAlmostEqual(cube["voxel_size"], fine["voxel_size"], places=6)
+        self.assertEqual(cube["detail"], 1.0, "a cube has no part thinner than its voxel")
 
         # New geometry in place: the same again changes nothing; triangles
         # split along other diagonals rebuild the cube's field.
