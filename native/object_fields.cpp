@@ -38,6 +38,13 @@ FineTraceSettings trace_settings(const FineTraceSettings& settings, bool rebuilt
   return trace;
 }
 
+// Whether a field built before was made for another shape of its mesh
+// than the scene holds now: the mesh deformed since.
+template <class Field>
+bool shape_changed(const Field& field, const GpuScene& scene) {
+  return field.coarse && field.version != scene.mesh_version(field.mesh);
+}
+
 bool has_volume_to_fit(const Bounds& bounds) {
   const glm::vec3 e = bounds.extent();
   return !bounds.is_empty() && std::max(e.x, std::max(e.y, e.z)) > 0.0f;
@@ -66,7 +73,7 @@ void ObjectFields::rebuild(GpuScene& scene, Field& field, const Bounds& bounds, 
                                field.fine_resolution == fine_resolution && field.beta == settings_.beta;
   const GridSpec* current = settings_.keep_history && same_resolution ? &field.coarse_grid : nullptr;
   // Room around the mesh only once it deforms: a rigid mesh never outgrows its grid.
-  const bool deformed = field.coarse && field.version != scene.mesh_version(field.mesh);
+  const bool deformed = shape_changed(field, scene);
   const GridSpec coarse_grid =
       keep_or_fit_grid(current, bounds, coarse_resolution, deformed ? settings_.grid_slack : 0.0f);
   const bool same_grid = current && coarse_grid.origin == field.coarse_grid.origin &&
@@ -175,8 +182,7 @@ void ObjectFields::sync(GpuScene& scene, const ObjectFieldSettings& settings, Ma
   std::vector<float> details(owners.size(), 1.0f);
   for (size_t k = 0; k < owners.size(); ++k) {
     auto old = std::find_if(fields_.begin(), fields_.end(), [&](const Field& f) { return f.mesh == owners[k]; });
-    const bool deforms = old != fields_.end() &&
-                         (old->deforms || (old->coarse && old->version != scene.mesh_version(old->mesh)));
+    const bool deforms = old != fields_.end() && (old->deforms || shape_changed(*old, scene));
     const glm::vec3 e = owner_bounds[k].extent();
     if (!deforms)
       details[k] = detail_scale(feature_size(scene, owners[k]), std::max(e.x, std::max(e.y, e.z)),
