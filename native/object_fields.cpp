@@ -179,9 +179,11 @@ void ObjectFields::sync(GpuScene& scene, const ObjectFieldSettings& settings, Ma
   // A mesh that deforms keeps its size's resolution: its field is traced
   // anew every frame, and the trace's cost grows with the square of the
   // resolution. A rigid mesh's is traced once.
+  std::vector<std::vector<Field>::iterator> olds(owners.size());  // each owner's field from before, if any
   std::vector<float> details(owners.size(), 1.0f);
   for (size_t k = 0; k < owners.size(); ++k) {
-    auto old = std::find_if(fields_.begin(), fields_.end(), [&](const Field& f) { return f.mesh == owners[k]; });
+    auto old = olds[k] =
+        std::find_if(fields_.begin(), fields_.end(), [&](const Field& f) { return f.mesh == owners[k]; });
     const bool deforms = old != fields_.end() && (old->deforms || shape_changed(*old, scene));
     const glm::vec3 e = owner_bounds[k].extent();
     if (!deforms)
@@ -215,9 +217,8 @@ void ObjectFields::sync(GpuScene& scene, const ObjectFieldSettings& settings, Ma
   // Keep the fields of meshes still casting, in mesh order; (re)build what is stale.
   std::vector<Field> fields;
   for (size_t k = 0; k < owners.size(); ++k) {
-    auto old = std::find_if(fields_.begin(), fields_.end(), [&](const Field& f) { return f.mesh == owners[k]; });
     Field field;
-    if (old != fields_.end()) field = std::move(*old);
+    if (olds[k] != fields_.end()) field = std::move(*olds[k]);
     field.mesh = owners[k];
     field.detail = details[k];
     const auto [coarse_resolution, fine_resolution] = resolutions(scale * details[k]);
