@@ -107,6 +107,28 @@ vec2 span_in_fields(vec3 origin, vec3 inv_dir, float t_min, float t_max) {
   return vec2(max(t_min, span.x), min(t_max, span.y));
 }
 
+// Whether a surface other than the receiver's own may lie within `reach`
+// of the surface point p: where a light's march from p does not look (it
+// starts the receiver's clearance, and up to its jitter, along the ray).
+// Those lengths are in the receiver's own voxels (own_voxel), and a large
+// receiver's are coarse: IvyGen's stems a centimetre off their wall (4 cm
+// voxels) lay wholly within them, and the march called the wall behind
+// them lit. The receiver's own field is the one of its voxel that reads
+// about 0 at p (another instance of its mesh touching it there passes for
+// it); any other whose surface may be within reach (give or take its
+// epsilon) may be such a caster.
+const float kOwnSurfaceVoxels = 0.5;
+bool other_surface_near(vec3 p, float reach, float own_voxel) {
+  int count = gather_fields(p, vec3(1.0), 0.0, 0.0, reach);
+  if (count < 0) return true;  // (too many to tell)
+  for (int k = 0; k < count; ++k) {
+    vec3 d = field_distance(nearby_fields[k], p);  // (outside its box: x bounds the distance)
+    if (abs(d.z - own_voxel) <= 1e-4 * own_voxel && abs(d.y) <= kOwnSurfaceVoxels * d.z) continue;
+    if (min(d.x, d.y) < reach + pc.shadow_epsilon * d.z) return true;
+  }
+  return false;
+}
+
 // Fraction of the light visible from `origin` along `dir` up to `t_max`;
 // tan_radius = tangent of the light's angular radius (0: a hard shadow).
 // Each sample's clearance from the surfaces is compared with the light cone's
