@@ -120,7 +120,7 @@ vec2 span_in_fields(vec3 origin, vec3 inv_dir, float t_min, float t_max) {
 const float kOwnSurfaceVoxels = 0.5;
 bool other_surface_near(vec3 p, float reach, float own_voxel) {
   int count = gather_fields(p, vec3(1.0), 0.0, 0.0, reach);
-  if (count < 0) return true;  // (too many to tell)
+  if (count < 0) count = RTSDF_MAX_NEARBY_FIELDS;  // (too many: the first that fit, as the march takes them)
   for (int k = 0; k < count; ++k) {
     vec3 d = field_distance(nearby_fields[k], p);  // (outside its box: x bounds the distance)
     if (abs(d.z - own_voxel) <= 1e-4 * own_voxel && abs(d.y) <= kOwnSurfaceVoxels * d.z) continue;
