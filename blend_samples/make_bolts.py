@@ -1,11 +1,11 @@
 """Makes a handful of fasteners from Blender's bundled Bolt Factory add-on
 (hex, Allen cap and dome-headed bolts with cut threads, and hex nuts) lying
 and standing on a steel plate on the ground, under a sun 25 degrees high and
-1 degree wide: real generator output whose threads (crests a fifth of a
-millimetre apart at the plate's scale of a few centimetres) are finer than
-any voxel, separate parts touching each other and the plate, and a low sun
-that draws the threads' serrated edge into the shadows. The bolt lying in
-front is the mover in bench/run.
+1 degree wide: real generator output at the scale of millimetres, whose
+threads (1.5-1.75 mm pitch) are a few voxels of the bolts' own fields and
+under one of the plate's, separate parts touching each other and the plate,
+and a low sun that draws the threads' serrated edge into the shadows. The
+bolt lying in front is the mover in bench/run.
 
 blender -b --factory-startup --python blend_samples/make_bolts.py -- OUT.blend
 """

@@ -214,8 +214,9 @@ float march_light(LightPath path, vec3 origin, vec3 n, float receiver_voxel, flo
     float v = visibility(origin, path.march_dir, t_min, path.t_max, path.tan_radius, jitter, escape, n, false, true,
                          crossed_sheet);
     vec3 p = origin - n * (pc.caster_offset * receiver_voxel);  // (the rays start at the surface itself)
-    // (lit, unless a finer caster lies where the march did not look)
-    if (v > 0.0 && receiver_voxel > 0.0 && other_surface_near(p, t_min + pc.shadow_epsilon * receiver_voxel, receiver_voxel)) v = -1.0;
+    // (lit, unless another caster lies where the march did not look: its start and jitter)
+    float unseen = t_min + pc.shadow_epsilon * receiver_voxel;
+    if (v > 0.0 && receiver_voxel > 0.0 && other_surface_near(p, unseen, receiver_voxel)) v = -1.0;
     if (v >= 0.0) return v;
     traced_exactly = true;
     return rays_to_light(path, p, n, pixel, exact_rays_at(pixel));
