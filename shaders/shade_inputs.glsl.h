@@ -206,6 +206,19 @@ int exact_rays_at(ivec2 pixel) {
 // Whether this pixel's shading traced rays where its field was unsure (the exact_rays field view).
 bool traced_exactly = false;
 
+// other_surface_near at a surface point, found once for all the lights it
+// marches (it depends on the point alone): -1 not yet, else 0 or 1, at
+// unseen_point.
+int unseen_caster = -1;
+vec3 unseen_point;
+bool caster_where_unseen(vec3 p, float unseen, float receiver_voxel) {
+  if (unseen_caster < 0 || p != unseen_point) {
+    unseen_point = p;
+    unseen_caster = other_surface_near(p, unseen, receiver_voxel) ? 1 : 0;
+  }
+  return unseen_caster == 1;
+}
+
 float march_light(LightPath path, vec3 origin, vec3 n, float receiver_voxel, float jitter, ivec2 pixel) {
   if (kVisibilityMode == kVisibilityRayTraced) return rays_to_light(path, origin, n, pixel, 1);
   float t_min = pc.receiver_clearance * receiver_voxel, escape = 2.0 * receiver_voxel;
@@ -216,7 +229,7 @@ float march_light(LightPath path, vec3 origin, vec3 n, float receiver_voxel, flo
     vec3 p = origin - n * (pc.caster_offset * receiver_voxel);  // (the rays start at the surface itself)
     // (lit, unless another caster lies where the march did not look: its start and jitter)
     float unseen = t_min + pc.shadow_epsilon * receiver_voxel;
-    if (v > 0.0 && receiver_voxel > 0.0 && other_surface_near(p, unseen, receiver_voxel)) v = -1.0;
+    if (v > 0.0 && receiver_voxel > 0.0 && caster_where_unseen(p, unseen, receiver_voxel)) v = -1.0;
     if (v >= 0.0) return v;
     traced_exactly = true;
     return rays_to_light(path, p, n, pixel, exact_rays_at(pixel));
