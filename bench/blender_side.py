@@ -84,12 +84,61 @@ def moving_object():
     return max(candidates, key=lambda o: max(o.dimensions)) if candidates else None
 
 
+class Move:
+    """prepare()'s move, which the playback plays in PLAYBACK_STEPS steps: the
+    mover crosses its own size along x (so that its old shadow is clear of the
+    new one), and where the scene's animation deforms a mesh (a skinned
+    character) the animation plays on a frame a step too. A mover only
+    translated would leave a deforming mesh's per-frame field unmeasured.
+    The mover's own transform keys are dropped (they would undo the move);
+    its pose and the rest of the scene's keys are kept."""
+
+    def __init__(self, mover):
+        scene = bpy.context.scene
+        self.mover, self.frame = mover, scene.frame_current
+        action = mover.animation_data.action if mover.animation_data else None
+        if action is not None:
+            for curve in [c for c in action.fcurves if c.data_path in ("location", "rotation_euler",
+                                                                       "rotation_quaternion", "scale")]:
+                action.fcurves.remove(curve)
+        self.start = mover.location.copy()
+        self.step = Vector((max(mover.dimensions) / PLAYBACK_STEPS, 0.0, 0.0))
+        self.plays_animation = scene.frame_end > scene.frame_start and self._deforms()
+        self.go(0)
+
+    def go(self, n):
+        """The scene at step n of the move (0: before it)."""
+        if self.plays_animation or n == 0:
+            bpy.context.scene.frame_set(self.frame + (n if self.plays_animation else 0))
+        self.mover.location = self.start + self.step * n
+
+    def _deforms(self):
+        """Whether a mesh's evaluated shape changes over the move's frames."""
+        def shapes():
+            depsgraph = bpy.context.evaluated_depsgraph_get()
+            found = []
+            for o in bpy.context.scene.objects:
+                if o.type == "MESH":
+                    vertices = o.evaluated_get(depsgraph).data.vertices
+                    found.append(np.empty(3 * len(vertices), np.float32))
+                    vertices.foreach_get("co", found[-1])
+            return found
+        scene = bpy.context.scene
+        first = shapes()
+        scene.frame_set(self.frame + PLAYBACK_STEPS)
+        last = shapes()
+        scene.frame_set(self.frame)
+        return any(a.shape != b.shape or not np.array_equal(a, b) for a, b in zip(first, last))
+
+
 def prepare():
     scene = bpy.context.scene
     scene.render.resolution_percentage = PERCENT
     scene.view_settings.view_transform = "Standard"
     if scene.frame_end > scene.frame_start:  # animated: a frame in the middle
         scene.frame_set((scene.frame_start + scene.frame_end) // 2)
+    mover = moving_object()
+    move = Move(mover) if mover is not None else None
     depsgraph = bpy.context.evaluated_depsgraph_get()
     before = sync.extract(depsgraph)
     references = {"before": {}, "after": {}}
@@ -97,19 +146,24 @@ def prepare():
     references["before"]["unshadowed"], _ = cycles(False)
     references["before"]["world"], _ = cycles(True, lights=False)  # for the leak figure
 
-    mover = moving_object()
-    after = None
-    if mover is not None:
-        # A move of the object's own size across the ground (x), so its old shadow is clear of the new one.
-        # (Its animation, if any, would put it back on evaluation: this Blender session is thrown away.)
-        mover.animation_data_clear()
-        mover.location += Vector((max(mover.dimensions), 0.0, 0.0))
-        depsgraph = bpy.context.evaluated_depsgraph_get()
-        after = sync.extract(depsgraph)
+    after, steps = None, None
+    if move is not None:
+        if move.plays_animation:
+            # Each step's pose as a viewport takes it: every instance's
+            # transform, and the meshes whose shape differs from before.
+            steps = []
+            for n in range(1, PLAYBACK_STEPS + 1):
+                move.go(n)
+                now = sync.extract(bpy.context.evaluated_depsgraph_get())
+                steps.append({"transforms": [instance["matrix"] for instance in now["instances"]],
+                              "meshes": {index: mesh for index, (old, mesh) in enumerate(zip(before["meshes"], now["meshes"]))
+                                         if not np.array_equal(old["positions"], mesh["positions"])}})
+        move.go(PLAYBACK_STEPS)
+        after = sync.extract(bpy.context.evaluated_depsgraph_get())
         references["after"]["shadowed"], _ = cycles(True)
         references["after"]["unshadowed"], _ = cycles(False)
     with open(os.path.join(OUT, "scene.pkl"), "wb") as f:
-        pickle.dump({"before": before, "after": after, "mover": mover.name if mover else None,
+        pickle.dump({"before": before, "after": after, "steps": steps, "mover": mover.name if mover else None,
                      "cycles_seconds": seconds, "cycles_samples": CYCLES_SAMPLES}, f)
     for state, images in references.items():
         for kind, image in images.items():
@@ -160,8 +214,7 @@ def eevee():
     if mover is not None:
         cascade, _, bias = sweep[0]
         set_shadow_maps(cascade, bias)
-        mover.animation_data_clear()  # (the pose stays: the properties keep the animated values)
-        start, step = mover.location.copy(), Vector((max(mover.dimensions) / PLAYBACK_STEPS, 0.0, 0.0))
+        move = Move(mover)
         scene.eevee.taa_render_samples = 1
         frames = []
         # The last two steps only: each of EEVEE's playback frames depends on
@@ -170,7 +223,7 @@ def eevee():
         # all eight, its flicker where nothing moves was 0 on all 12 scenes),
         # in a quarter of the renders.
         for n in range(PLAYBACK_STEPS - 1, PLAYBACK_STEPS + 1):
-            mover.location = start + step * n
+            move.go(n)
             image, _ = render_pixels()
             frames.append(f"eevee_playback_{n}.npy")
             np.save(os.path.join(OUT, frames[-1]), image)
@@ -178,7 +231,7 @@ def eevee():
         image, _ = render_pixels()
         np.save(os.path.join(OUT, "eevee_still_after.npy"), image)
         playback = {"playback": frames, "still_after": "eevee_still_after.npy"}
-        mover.location = start
+        move.go(0)
     results = []
     for index, (cascade, samples, bias) in enumerate(sweep):
         set_shadow_maps(cascade, bias)

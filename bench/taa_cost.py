@@ -49,9 +49,9 @@ def playback_steps(session, data, settings, temporal_reuse, size=None):
     for _ in range(settings["samples"] + 64):
         if viewport.draw(view, settings)["converged"]:
             break
-    times, stages = [], {}
+    times, stages, deformed = [], {}, set()
     for step in range(1, bench.ANIMATION_STEPS + 1):
-        viewport.set_transforms(bench.mover_transforms(data, step))
+        bench.show_pose(viewport, data, step, deformed)
         drawn = viewport.draw(view, settings)
         times.append(drawn["draw_ms"]["begin"] + drawn["draw_ms"]["frame"])
         for stage, ms in drawn["ms"].items():
