@@ -12,6 +12,7 @@
 #include "mesh_topology.h"
 #include "winding_number.h"
 #include "shaders/shared.h"
+#include "vk/context.h"
 
 namespace rtsdf {
 
@@ -198,7 +199,11 @@ void GpuScene::upload_raster() {
   uvs_ = storage(context_, all.uvs);
   vertex_materials_ = storage(context_, all.slots);
   static_assert(sizeof(glm::vec3) == 3 * sizeof(float), "positions are uploaded as packed floats");
-  positions_ = storage(context_, all.positions);
+  // (a source too: a deformation copies the vertices drawn before it)
+  positions_ = vk::upload_buffer(context_, all.positions.data(), all.positions.size() * sizeof(glm::vec3),
+                                 VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT);
+  previous_positions_ = {};
+  deformed_since_.assign(scene_.meshes.size(), 0);
   // (also the G-buffer's index buffer)
   indices_ = vk::upload_buffer(context_, all.indices.data(), all.indices.size() * sizeof(uint32_t),
                                VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_INDEX_BUFFER_BIT);
@@ -206,11 +211,23 @@ void GpuScene::upload_raster() {
   colors_ = storage(context_, all.colors);
 }
 
-bool GpuScene::write_raster_in_place(uint32_t mesh) {
+bool GpuScene::write_raster_in_place(uint32_t mesh, bool deformed) {
   GpuMeshRange& range = meshes_[mesh];
   RasterMesh one = raster_mesh(scene_.meshes[mesh]);
   if (one.positions.size() != range.vertex_count || one.indices.size() != 3 * size_t(range.triangle_count))
     return false;
+  if (deformed && !deformed_since_[mesh] && range.vertex_count > 0) {
+    // The first deformation since the interval began: the vertices drawn before it.
+    if (!previous_positions_)
+      previous_positions_ = vk::Buffer(context_, positions_.size(), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                                       vk::Buffer::Access::DeviceOnly);
+    context_.submit_and_wait([&](VkCommandBuffer cmd) {
+      const VkDeviceSize first = VkDeviceSize(range.base_vertex) * sizeof(glm::vec3);
+      const VkBufferCopy region{first, first, VkDeviceSize(range.vertex_count) * sizeof(glm::vec3)};
+      vkCmdCopyBuffer(cmd, positions_.handle(), previous_positions_.handle(), 1, &region);
+    });
+    deformed_since_[mesh] = 1;
+  }
   vk::BufferWrites writes;
   writes.add_range(positions_, range.base_vertex, one.positions);
   writes.add_range(normals_, range.base_vertex, one.normals);
@@ -381,6 +398,12 @@ void GpuScene::set_transforms(const std::vector<glm::mat4>& object_to_world) {
   bvh_build_ms_ = ms_since(start);
 }
 
+std::vector<uint8_t> GpuScene::take_deformations() {
+  std::vector<uint8_t> taken(scene_.meshes.size(), 0);
+  std::swap(taken, deformed_since_);
+  return taken;
+}
+
 void GpuScene::set_mesh_positions(uint32_t mesh, const std::vector<glm::vec3>& positions) {
   if (mesh >= scene_.meshes.size() || positions.size() != scene_.meshes[mesh].positions.size())
     throw Error("set_mesh_positions: the vertex count must stay the same");
@@ -401,7 +424,7 @@ void GpuScene::set_mesh(uint32_t mesh, Mesh geometry) {
   Scene::validate_mesh(geometry);
   if (!shape_changed) {
     current = std::move(geometry);
-    if (!write_raster_in_place(mesh)) upload_raster();
+    if (!write_raster_in_place(mesh, false)) upload_raster();
     return;
   }
   for (uint32_t i = 0; i < scene_.instances.size(); ++i)
@@ -425,7 +448,7 @@ void GpuScene::set_mesh(uint32_t mesh, Mesh geometry) {
     if (scene_.instances[i].mesh == mesh) mark_changed(i);  // the new one
   update_bounds();
   // A deformation keeps the counts: only this mesh's ranges are rewritten.
-  const bool in_place = write_raster_in_place(mesh);
+  const bool in_place = write_raster_in_place(mesh, true);
   if (!in_place) upload_raster();
   if (!has_ray_structures_) return;
   Clock::time_point start = Clock::now();

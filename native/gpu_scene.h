@@ -54,6 +54,14 @@ class GpuScene {
   void set_mesh(uint32_t mesh, Mesh geometry);
 
   const vk::Buffer& positions() const { return positions_; }
+  // The vertices of the meshes that deformed in place since the last
+  // take_deformations(), as they were then, laid out as positions() (the
+  // G-buffer's motion follows each vertex of a deforming mesh); positions()
+  // itself until a mesh deforms.
+  const vk::Buffer& previous_positions() const { return previous_positions_ ? previous_positions_ : positions_; }
+  // Per mesh: whether previous_positions() holds its vertices from before a
+  // deformation since the last call. Starts the next such interval.
+  std::vector<uint8_t> take_deformations();
   const vk::Buffer& indices() const { return indices_; }
   // Per-vertex normals, (0,0,0) where a mesh has none (flat shading).
   const vk::Buffer& normals() const { return normals_; }
@@ -127,7 +135,8 @@ class GpuScene {
   void upload_raster();
   // Rewrites one mesh's vertices and indices where they are, when it keeps
   // their counts (a deformation); false when its range would change size.
-  bool write_raster_in_place(uint32_t mesh);
+  // deformed: the vertices moved (previous_positions() keeps those drawn).
+  bool write_raster_in_place(uint32_t mesh, bool deformed);
   void upload_materials();
   // same_triangles: the mesh deformed (its triangles as they were, moved):
   // its tree is refitted, unless that made it too costly to trace.
@@ -155,6 +164,8 @@ class GpuScene {
   std::vector<MeshExtent> extents_;  // one per mesh, for instance bounds
   Changes changes_;
   vk::Buffer positions_;
+  vk::Buffer previous_positions_;       // (made on the first deformation in place)
+  std::vector<uint8_t> deformed_since_;  // per mesh: previous_positions_ holds its vertices from before
   vk::Buffer indices_;
   vk::Buffer normals_;
   vk::Buffer uvs_;

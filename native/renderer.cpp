@@ -486,9 +486,19 @@ void Renderer::begin(GpuScene& scene, const Camera& camera, const std::vector<Li
   std::vector<glm::mat4> transforms;
   for (const Instance& instance : scene.instances()) transforms.push_back(instance.object_to_world);
   instance_motions_ = world_motions(has_history_ ? drawn_transforms_ : transforms, transforms);
+  // The instances whose mesh deformed since the last begin(): their
+  // vertices' own motion too (GpuScene::previous_positions).
+  const std::vector<uint8_t> deformed_meshes = scene.take_deformations();
+  instance_deformed_.assign(scene.instances().size(), 0);
+  if (has_history_)
+    for (size_t i = 0; i < instance_deformed_.size(); ++i) {
+      const uint32_t mesh = scene.instances()[i].mesh;
+      instance_deformed_[i] = mesh < deformed_meshes.size() ? deformed_meshes[mesh] : 0;
+    }
   put_shadow_movers(scene, instance_motions_, frame_data_);
-  for (size_t i = 0; i < instance_motions_.size(); ++i)  // (the history bits of all that moved: shared.h)
-    if (instance_motions_[i] != glm::mat4(1.0f)) frame_data_.shadow_counts.z |= 1u << (i % gpu::kHistoryBits);
+  for (size_t i = 0; i < instance_motions_.size(); ++i)  // (the history bits of all that moved or deformed: shared.h)
+    if (instance_motions_[i] != glm::mat4(1.0f) || instance_deformed_[i])
+      frame_data_.shadow_counts.z |= 1u << (i % gpu::kHistoryBits);
   if (has_history_ && scene_changed && last_changes_) {
     auto put = [](const Bounds& box, glm::vec4& lo, glm::vec4& hi) {
       lo = glm::vec4(box.lo, 1.0f), hi = glm::vec4(box.hi, 1.0f);
@@ -682,7 +692,7 @@ void Renderer::add_frame() {
   stats_.drawn_share = kept_region.share();
   context_.submit_and_wait([&](VkCommandBuffer cmd) {
     shading_timer_.begin(cmd);
-    gbuffer_.record(cmd, *scene_, frame_buffer_, field_voxels_, instance_motions_, drawn);
+    gbuffer_.record(cmd, *scene_, frame_buffer_, field_voxels_, instance_motions_, instance_deformed_, drawn);
     shading_timer_.mark(cmd, "gbuffer");
     if (keeps) {
       temporal_.record_keep(cmd, gbuffer_, temporal_images, frame_buffer_, light_buffer_, temporal, kept_region);

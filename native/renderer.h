@@ -372,6 +372,7 @@ class Renderer {
   std::vector<glm::mat4> drawn_transforms_;
   gpu::FrameData drawn_frame_{};
   std::vector<glm::mat4> instance_motions_;  // per instance, for the G-buffer's motion (world_motions)
+  std::vector<uint8_t> instance_deformed_;   // per instance: its mesh deformed since the last begin() (ditto)
   std::optional<GpuScene::Changes> last_changes_;  // taken by the last rebuild_sdfs
   // Playback steps draw these alone (RenderSettings::changed_region_only):
   // where this accumulation's change can reach on screen (begin() finds it),

@@ -14,8 +14,9 @@
 // The slot comes from the vertex (GpuScene uploads a vertex shared by faces
 // of several slots once per slot): read from gl_PrimitiveID instead, lavapipe
 // took 150 ms instead of 20 for the G-buffer of the 110k-triangle CAD sample.
-// Included by gbuffer.frag with RTSDF_MATERIAL_INPUTS defined and by
-// gbuffer_one_color.frag without (as gbuffer_vertex.glsl.h).
+// Included by gbuffer.frag with RTSDF_MATERIAL_INPUTS defined, by
+// gbuffer_one_color.frag without, and by gbuffer_deforming.frag with
+// RTSDF_DEFORMATION too (as gbuffer_vertex.glsl.h).
 #include "shared.h"
 layout(push_constant) uniform Push { GBufferPush pc; };
 layout(std140, binding = 1) uniform Frame { FrameData frame; };
@@ -25,6 +26,9 @@ layout(location = 1) in vec3 v_smooth_normal;
 layout(location = 2) in vec2 v_uv;
 layout(location = 3) flat in uint v_slot;
 layout(location = 4) in vec3 v_color;
+#endif
+#ifdef RTSDF_DEFORMATION
+layout(location = 5) in vec3 v_deformation;
 #endif
 layout(std430, binding = 5) readonly buffer Materials { GpuMaterial materials[]; };
 layout(std430, binding = 6) readonly buffer Texels { uint texels[]; };
@@ -75,7 +79,11 @@ void main() {
   out_normal = vec4(smooth_length > 1e-6 ? v_smooth_normal / smooth_length : face_normal, float(pc.history_bit));
   out_albedo = vec4(base_color(), pc.field_voxel);
   vec4 steady_clip = frame.steady_world_to_clip * vec4(v_world, 1.0);
-  vec3 previous_world = vec4(v_world, 1.0) * pc.world_to_previous_world;
+  vec3 placed_now = v_world;  // this point of the surface as it was shaped in the last frame, placed as now
+#ifdef RTSDF_DEFORMATION
+  placed_now += v_deformation;
+#endif
+  vec3 previous_world = vec4(placed_now, 1.0) * pc.world_to_previous_world;
   vec4 previous_clip = frame.previous_world_to_clip * vec4(previous_world, 1.0);
   vec2 now = steady_clip.xy / steady_clip.w;
   vec2 before = previous_clip.xy / max(previous_clip.w, 1e-20);

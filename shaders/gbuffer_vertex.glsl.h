@@ -12,6 +12,10 @@
 // by gbuffer_one_color.vert without, for an instance of one plain colour,
 // which needs none of them. Outputs unused are still set up per triangle by
 // lavapipe: the engine's G-buffer took about 3 ms longer with them.
+// gbuffer_deforming.vert adds RTSDF_DEFORMATION, for an instance whose mesh
+// deformed since the last frame: how far each vertex moved in the mesh (from
+// where GpuScene::previous_positions() has it), in world space, so that the
+// fragment stage's motion follows the deformation, not the instance alone.
 #include "shared.h"
 
 layout(std430, binding = 0) readonly buffer Positions { float positions[]; };
@@ -29,6 +33,10 @@ layout(location = 2) out vec2 v_uv;
 layout(location = 3) flat out uint v_slot;  // its material slot (the provoking vertex's counts)
 layout(location = 4) out vec3 v_color;      // its colour attribute (white where the mesh has none)
 #endif
+#ifdef RTSDF_DEFORMATION
+layout(std430, binding = 8) readonly buffer PreviousPositions { float previous_positions[]; };
+layout(location = 5) out vec3 v_deformation;  // from where the vertex is to where it was in the mesh, placed as the instance is now
+#endif
 
 void main() {
   uint v = uint(gl_VertexIndex);  // (the mesh's base vertex included)
@@ -42,6 +50,10 @@ void main() {
   float orientation = dot(m[0], cofactor[0]) < 0.0 ? -1.0 : 1.0;
   v_smooth_normal = orientation * (cofactor * vec3(normals[3u * v], normals[3u * v + 1u], normals[3u * v + 2u]));
   gl_Position = frame.world_to_clip * vec4(v_world, 1.0);
+#ifdef RTSDF_DEFORMATION
+  vec3 was = vec3(previous_positions[3u * v], previous_positions[3u * v + 1u], previous_positions[3u * v + 2u]);
+  v_deformation = vec4(was - object.xyz, 0.0) * pc.object_to_world;
+#endif
 #ifdef RTSDF_MATERIAL_INPUTS
   v_uv = uvs[v];
   v_slot = vertex_materials[v];

@@ -5,6 +5,8 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "shaders/shared.h"
+#include "spirv/spirv_gbuffer_deforming_frag.h"
+#include "spirv/spirv_gbuffer_deforming_vert.h"
 #include "spirv/spirv_gbuffer_frag.h"
 #include "spirv/spirv_gbuffer_one_color_frag.h"
 #include "spirv/spirv_gbuffer_one_color_vert.h"
@@ -19,9 +21,10 @@ namespace {
 constexpr VkFormat kColor = VK_FORMAT_R32G32B32A32_SFLOAT;
 constexpr VkFormat kDepth = VK_FORMAT_D32_SFLOAT;
 // The scene's vertex and material buffers, and the frame (binding 1: a
-// uniform buffer, read alike by every vertex and fragment).
+// uniform buffer, read alike by every vertex and fragment); binding 8: the
+// vertices before a deformation.
 const std::vector<VkDescriptorType> kBindings = [] {
-  std::vector<VkDescriptorType> bindings(8, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER);
+  std::vector<VkDescriptorType> bindings(9, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER);
   bindings[1] = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
   return bindings;
 }();
@@ -50,7 +53,9 @@ GBufferPass::GBufferPass(const vk::Context& context)
       one_color_(context, RTSDF_SPIRV(spirv_gbuffer_one_color_vert), RTSDF_SPIRV(spirv_gbuffer_one_color_frag), kBindings,
                  sizeof(gpu::GBufferPush), kTargets),
       material_slots_(context, RTSDF_SPIRV(spirv_gbuffer_vert), RTSDF_SPIRV(spirv_gbuffer_frag), kBindings,
-                      sizeof(gpu::GBufferPush), kTargets) {}
+                      sizeof(gpu::GBufferPush), kTargets),
+      deforming_(context, RTSDF_SPIRV(spirv_gbuffer_deforming_vert), RTSDF_SPIRV(spirv_gbuffer_deforming_frag), kBindings,
+                 sizeof(gpu::GBufferPush), kTargets) {}
 
 void GBufferPass::resize(int width, int height) {
   if (width == width_ && height == height_) return;
@@ -70,9 +75,10 @@ void GBufferPass::resize(int width, int height) {
 
 void GBufferPass::record(VkCommandBuffer cmd, const GpuScene& scene, const vk::Buffer& frame,
                          const std::vector<float>& field_voxels, const std::vector<glm::mat4>& motions,
-                         const PixelRect& region) const {
+                         const std::vector<uint8_t>& deformed, const PixelRect& region) const {
   if (field_voxels.size() != scene.instances().size()) throw Error("GBufferPass: one field voxel per instance");
-  if (motions.size() != scene.instances().size()) throw Error("GBufferPass: one motion per instance");
+  if (motions.size() != scene.instances().size() || deformed.size() != scene.instances().size())
+    throw Error("GBufferPass: one motion per instance");
   if (region.is_empty()) return;
   const VkRect2D drawn{{region.lo.x, region.lo.y}, {uint32_t(region.size().x), uint32_t(region.size().y)}};
   VkClearValue clears[5]{};
@@ -92,14 +98,15 @@ void GBufferPass::record(VkCommandBuffer cmd, const GpuScene& scene, const vk::B
       vk::Resource::storage_buffer(scene.positions()),        vk::Resource::uniform_buffer(frame),
       vk::Resource::storage_buffer(scene.normals()),          vk::Resource::storage_buffer(scene.uvs()),
       vk::Resource::storage_buffer(scene.vertex_materials()), vk::Resource::storage_buffer(scene.materials()),
-      vk::Resource::storage_buffer(scene.texels()),           vk::Resource::storage_buffer(scene.colors())};
+      vk::Resource::storage_buffer(scene.texels()),           vk::Resource::storage_buffer(scene.colors()),
+      vk::Resource::storage_buffer(scene.previous_positions())};
   const vk::Pipeline* bound = nullptr;
   for (size_t i = 0; i < scene.instances().size(); ++i) {
     const Instance& instance = scene.instances()[i];
     const GpuMeshRange& mesh = scene.meshes()[instance.mesh];
     if (mesh.triangle_count == 0 || !instance.visible_to_camera) continue;
     const glm::uvec2 slots = scene.material_range(uint32_t(i));
-    const vk::Pipeline& pipeline = slots.y == 0 ? one_color_ : material_slots_;
+    const vk::Pipeline& pipeline = deformed[i] ? deforming_ : slots.y == 0 ? one_color_ : material_slots_;
     if (bound != &pipeline) {
       pipeline.bind(cmd);
       pipeline.push_descriptors(cmd, resources);

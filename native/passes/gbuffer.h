@@ -28,12 +28,14 @@ class GBufferPass {
   // `frame` holds one gpu::FrameData; `field_voxels`, per instance, the
   // world voxel size of the field holding it (0: in none), which the
   // shading's receiver offsets are measured in. `motions`, per instance,
-  // where its points were in the last frame (world_motions). Draws the
+  // where its points were in the last frame (world_motions); `deformed`, per
+  // instance, whether its mesh deformed since then: each vertex's motion
+  // then starts from where GpuScene::previous_positions() has it. Draws the
   // pixels of `region` alone (a playback step reads no others:
   // TemporalPass::drawn_region); the rest keep what they held.
   void record(VkCommandBuffer cmd, const GpuScene& scene, const vk::Buffer& frame,
               const std::vector<float>& field_voxels, const std::vector<glm::mat4>& motions,
-              const PixelRect& region) const;
+              const std::vector<uint8_t>& deformed, const PixelRect& region) const;
 
   const vk::Image& position() const { return position_; }
   const vk::Image& normal() const { return normal_; }
@@ -42,8 +44,11 @@ class GBufferPass {
 
  private:
   const vk::Context& context_;
-  // Instances of one plain colour, and those whose material slots are read per vertex.
-  vk::Pipeline one_color_, material_slots_;
+  // Instances of one plain colour, those whose material slots are read per
+  // vertex, and those whose mesh deformed since the last frame (slots read,
+  // and each vertex's last position: a varying more, which lavapipe sets up
+  // for every triangle, so the rigid ones go without).
+  vk::Pipeline one_color_, material_slots_, deforming_;
   int width_ = 0, height_ = 0;
   vk::Image position_, normal_, albedo_, motion_, depth_;
   std::unique_ptr<vk::Framebuffer> framebuffer_;

@@ -154,6 +154,36 @@ TEST_F(TemporalTest, ReprojectionFollowsATranslatingCubeAndDropsDisocclusions) {
   EXPECT_GT(out.effective_samples, 3.0);
 }
 
+// A mesh that deforms: its vertices move half the cube's move in the mesh,
+// its instance the other half. The motion on its top is the whole move,
+// from its vertices as from its transform, and the top finds itself in
+// history; the next frame, with nothing changed, has no motion there.
+TEST_F(TemporalTest, ReprojectionFollowsADeformingMeshsVertices) {
+  GpuScene scene(context(), cube_over_ground());
+  Renderer renderer(context());
+  const RenderSettings settings = playback_settings();
+  draw_top_view(renderer, scene, {tilted_sun()}, glm::vec3(0.05f), settings, 4);
+  std::vector<glm::vec3> shifted = scene.scene().meshes[0].positions;
+  for (glm::vec3& p : shifted) p.x += 0.5f * kMove;
+  scene.set_mesh_positions(0, shifted);
+  move_cube(scene, -0.5f + 0.5f * kMove);
+  draw_top_view(renderer, scene, {tilted_sun()}, glm::vec3(0.05f), settings, 1);
+
+  const glm::vec4 on_top = renderer.read_motion()[pixel_at(0.05, 0.05)];
+  std::printf("motion on the deformed cube's top (%.4f, %.4f), depth %.3f\n", on_top.x, on_top.y, on_top.z);
+  EXPECT_NEAR(on_top.x, -kMove * 0.5f, 1e-4f) << "half of it from the vertices, half from the instance";
+  EXPECT_NEAR(on_top.y, 0.0f, 1e-4f);
+  EXPECT_NEAR(on_top.z, 9.0f, 1e-3f);
+  const float top = renderer.read().samples[pixel_at(0.05, 0.05)];
+  std::printf("samples on the deformed cube's top: %.0f\n", top);
+  EXPECT_GE(top, 2.0f) << "the deformed top found itself in history";
+
+  draw_top_view(renderer, scene, {tilted_sun()}, glm::vec3(0.05f), settings, 1);
+  const glm::vec4 after = renderer.read_motion()[pixel_at(0.05, 0.05)];
+  EXPECT_NEAR(after.x, 0.0f, 1e-5f) << "the deformation is not counted again";
+  EXPECT_NEAR(after.y, 0.0f, 1e-5f);
+}
+
 // The motion of an instance that turns and stretches: the cube turns a
 // quarter about its centre and grows by half along its own x. Between two
 // pixels of its top, the difference of their motions is the analytic one
