@@ -236,6 +236,12 @@ void follow_shadow(ivec2 pixel, vec3 p, int crossing, inout History h) {
   h.followed_alone = !path_meets_still_caster(p, cone) && !path_meets_still_caster(p_before, light_cone(p_before, light));
 }
 
+// The depth this frame sees at a G-buffer `position` (as the shading's Depth
+// pass has it: kNothingHitDepth where no surface is).
+float seen_depth(vec4 position) {
+  return position.w > 0.0 ? dot(position.xyz - frame.camera_position.xyz, frame.camera_forward.xyz) : kNothingHitDepth;
+}
+
 // The history of `pixel` (its G-buffer position `position`).
 History find_history(ivec2 pixel, vec4 position) {
   History h;
@@ -275,6 +281,34 @@ History find_history(ivec2 pixel, vec4 position) {
     if (abs(near_point.w) < 1e-20 || before.w <= 0.0) return h;
     h.on_ray = near_point.xyz / near_point.w;
     motion = vec4(before.xy / before.w - ndc, kNothingHitDepth, 1.0);
+  }
+
+  // A pixel beside the outline of a nearer surface (in its 3x3
+  // neighbourhood) that moved otherwise reads history where that surface
+  // was (the motion of the nearest depth around, as in Karis's temporal
+  // supersampling): there history holds the outline anti-aliased over the
+  // samples before, which the one new sample cannot; where the pixel's own
+  // surface was, it held the object before it moved (or not yet), and was
+  // dropped, so moving outlines were as jagged as one sample (their pixels
+  // most of a playback frame's error beyond the still frame's on the bench
+  // scenes). The resolve's clip to this frame's neighbourhood bounds what
+  // such history brings. `front_change`: that surface's move in depth.
+  float own_depth = seen_depth(position), front_depth = own_depth, front_change = 0.0;
+  ivec2 front = pixel;
+  for (int k = 0; k < 9; ++k) {
+    ivec2 q = pixel + ivec2(k % 3, k / 3) - 1;
+    if (k == 4 || any(lessThan(q, ivec2(0))) || any(greaterThanEqual(q, pc.image_size))) continue;
+    float d = seen_depth(imageLoad(g_position, q));
+    if (d < front_depth * (1.0 - pc.depth_tolerance)) front = q, front_depth = d;
+  }
+  bool dilated = false;
+  if (front != pixel) {
+    vec4 front_motion = imageLoad(g_motion, front);
+    if (front_motion.w > 0.0 && front_motion.xy != motion.xy) {
+      front_change = front_depth - front_motion.z;
+      motion = front_motion;
+      dilated = true;
+    }
   }
 
   // Where the surface point was: pixel centre + motion (in pixels), read
@@ -331,7 +365,11 @@ History find_history(ivec2 pixel, vec4 position) {
     bool stayed = all(lessThan(abs(at - vec2(pixel)), vec2(1e-3)));
     bool saw_mover = stayed && (history_bits(pixel) & moved_bits) != 0u &&
                      (surface_bits(pixel, position) & moved_bits) == 0u;
-    h.front_moved = (h.nearest < depth * (1.0 - pc.depth_tolerance) || saw_mover) &&
+    // (read where a nearer surface beside it was: whether history's front is
+    // nearer than that surface now)
+    bool front_nearer = dilated ? h.nearest + front_change < front_depth * (1.0 - pc.depth_tolerance)
+                                : h.nearest < depth * (1.0 - pc.depth_tolerance);
+    h.front_moved = (front_nearer || saw_mover) &&
                     within_box(history_front, frame.moved_lo, frame.moved_hi,
                                (pc.jitter_reach + 2.0) * pixel_width_at(history_front));
   }
@@ -349,6 +387,14 @@ History find_history(ivec2 pixel, vec4 position) {
             !h.front_moved && h.stays;
   h.away = background || !in_contact_with_change(position.xyz);
   if (h.shadow_may_move) follow_shadow(pixel, position.xyz, crossing, h);
+  // History's depths as the resolve moves them (by this pixel's own move in
+  // depth since, previous_depth): read where the nearer surface was, they
+  // moved as it did.
+  if (dilated) {
+    float shift = front_change - (own_depth - h.previous_depth);
+    if (h.nearest < kNothingHitDepth) h.nearest += shift;
+    if (h.farthest < kNothingHitDepth) h.farthest += shift;
+  }
   return h;
 }
 
@@ -436,12 +482,6 @@ History handed_history(ivec2 pixel) {
   return h;
 }
 #endif
-
-// The depth this frame sees at a G-buffer `position` (as the shading's Depth
-// pass has it: kNothingHitDepth where no surface is).
-float seen_depth(vec4 position) {
-  return position.w > 0.0 ? dot(position.xyz - frame.camera_position.xyz, frame.camera_forward.xyz) : kNothingHitDepth;
-}
 
 // A settled pixel's resolved accumulation: history at this pixel as it was
 // (a settled pixel is where it was, with its full samples), the same that

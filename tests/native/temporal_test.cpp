@@ -154,6 +154,28 @@ TEST_F(TemporalTest, ReprojectionFollowsATranslatingCubeAndDropsDisocclusions) {
   EXPECT_GT(out.effective_samples, 3.0);
 }
 
+// The cube moves by three quarters of its width: the ground a pixel behind
+// its new outline was under the cube, and that pixel's own history (the
+// cube) is dropped; read where the outline was (the motion of the nearer
+// surface beside it), it finds the ground beside the old outline, with its
+// samples and their anti-aliased edge. A pixel farther behind, out of the
+// outline's reach, starts afresh.
+TEST_F(TemporalTest, APixelBehindAMovingOutlineReadsHistoryWhereTheOutlineWas) {
+  GpuScene scene(context(), cube_over_ground());
+  Renderer renderer(context());
+  const RenderSettings settings = playback_settings();
+  draw_top_view(renderer, scene, {tilted_sun()}, glm::vec3(0.05f), settings, 4);
+  move_cube(scene, -0.5f + 0.375f);  // (its left edge from -0.75 to -0.375: 6 pixels)
+  draw_top_view(renderer, scene, {tilted_sun()}, glm::vec3(0.05f), settings, 1);
+  const float pixel = 4.0f / kSize;
+  const RenderOutput out = renderer.read();
+  const float behind = out.samples[pixel_at(-0.375 - 0.5 * pixel, 0.0)];
+  const float farther = out.samples[pixel_at(-0.375 - 2.5 * pixel, 0.0)];
+  std::printf("samples on the ground a pixel behind the outline %.0f, three pixels behind %.0f\n", behind, farther);
+  EXPECT_GE(behind, 3.0f) << "history read where the outline was";
+  EXPECT_EQ(farther, 1.0f) << "history there showed the cube: dropped";
+}
+
 // A mesh that deforms: its vertices move half the cube's move in the mesh,
 // its instance the other half. The motion on its top is the whole move,
 // from its vertices as from its transform, and the top finds itself in
