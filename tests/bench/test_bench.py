@@ -102,6 +102,47 @@ class Figures(unittest.TestCase):
         self.assertEqual(bench.mover_screen_box({"before": pose(0.0, 0.0), "after": pose(1.0, 0.0)}, 4),
                          (0, height - 1, 0, width - 1))
 
+    def test_a_recorded_animation_plays_each_steps_pose(self):
+        # A scene whose animation deforms a mesh: prepare recorded every step's
+        # transforms and deformed meshes; a viewport is shown each step's, and a
+        # mesh back in its first shape is put back.
+        quad = {"positions": np.array([0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0], np.float32)}
+        bent = {"positions": np.array([0, 0, 0, 1, 0, 1, 1, 1, 1, 0, 1, 0], np.float32)}
+        moved = np.eye(4, dtype=np.float32)
+        moved[0, 3] = 2.0
+        still = {"instances": [{"mesh": 0, "matrix": np.eye(4, dtype=np.float32)}], "meshes": [quad]}
+        steps = [{"transforms": [np.eye(4, dtype=np.float32)], "meshes": {0: bent}} for _ in range(bench.ANIMATION_STEPS)]
+        steps[1] = {"transforms": [np.eye(4, dtype=np.float32)], "meshes": {}}
+        steps[-1] = {"transforms": [moved], "meshes": {0: bent}}
+        data = {"before": still, "after": {"instances": [{"mesh": 0, "matrix": moved}], "meshes": [bent]},
+                "steps": steps}
+        self.assertEqual(bench.moving_instances(data), [0])
+
+        class Viewport:
+            def __init__(self):
+                self.calls = []
+
+            def set_transforms(self, transforms):
+                self.calls.append(("transforms", float(transforms[0][0, 3])))
+
+            def set_mesh_geometry(self, index, mesh):
+                self.calls.append(("mesh", index, mesh is bent))
+
+        viewport, deformed = Viewport(), set()
+        bench.show_pose(viewport, data, 1, deformed)
+        self.assertEqual(viewport.calls, [("transforms", 0.0), ("mesh", 0, True)])
+        bench.show_pose(viewport, data, 2, deformed)
+        self.assertEqual(viewport.calls[2:], [("transforms", 0.0), ("mesh", 0, False)])  # (back in its first shape)
+        self.assertEqual(deformed, set())
+        bench.show_pose(viewport, data, bench.ANIMATION_STEPS, deformed)
+        self.assertEqual(viewport.calls[4:], [("transforms", 2.0), ("mesh", 0, True)])
+        # Without recorded steps (a rigid move), transforms in between and the last shape at the end.
+        rigid = {"before": still, "after": data["after"]}
+        transforms, meshes = bench.pose(rigid, bench.ANIMATION_STEPS // 2)
+        self.assertAlmostEqual(float(transforms[0][0, 3]), 1.0)
+        self.assertEqual(meshes, {})
+        self.assertIs(bench.pose(rigid, bench.ANIMATION_STEPS)[1][0], bent)
+
     def test_playback_error_splits_the_excess_at_geometry_edges_from_the_rest(self):
         playback_error = load_playback_error()
         unshadowed = np.full((20, 20, 3), 0.8, np.float32)
