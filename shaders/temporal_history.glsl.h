@@ -388,10 +388,13 @@ History find_history(ivec2 pixel, vec4 position) {
   h.away = background || !in_contact_with_change(position.xyz);
   if (h.shadow_may_move) follow_shadow(pixel, position.xyz, crossing, h);
   // History's depths as the resolve moves them (by this pixel's own move in
-  // depth since, previous_depth): read where the nearer surface was, they
-  // moved as it did.
+  // depth since, previous_depth; the background's by none): read where the
+  // nearer surface was, they moved as it did. (A sky pixel's own motion in
+  // the G-buffer is empty: taken as its move, it put history's depths 1e10
+  // behind the camera, and beside a moving outline the sky settled on the
+  // object's colour, a dot a step.)
   if (dilated) {
-    float shift = front_change - (own_depth - h.previous_depth);
+    float shift = front_change - (background ? 0.0 : own_depth - h.previous_depth);
     if (h.nearest < kNothingHitDepth) h.nearest += shift;
     if (h.farthest < kNothingHitDepth) h.farthest += shift;
   }

@@ -473,6 +473,62 @@ TEST_F(TemporalTest, AMovedObjectLeavesNoSilhouetteOnTheSky) {
   EXPECT_LT(sky.worst, 0.1) << "the moved cube's old outline is gone from the sky after four frames";
 }
 
+// The cube moves across the sky in eight steps, a frame each (as playback
+// draws), then stays: no pixel of the sky keeps any of its colour. A sky
+// pixel beside the moving outline reads history where the outline was,
+// and its history's depths move as the outline's did: moved by the sky's
+// (none), not by its empty motion in the G-buffer, or they lay 1e10 behind
+// the camera, and after the outline had gone the sky settled on the cube's
+// colour for good, one dot a step (0.59 off).
+TEST_F(TemporalTest, AnObjectMovingAcrossTheSkyLeavesNoTrail) {
+  Camera camera;  // as AMovedObjectLeavesNoSilhouetteOnTheSky's
+  camera.world_to_view = glm::lookAt(glm::vec3(-0.5f, -3.0f, 0.9f), glm::vec3(-0.5f, 10.0f, 2.5f), glm::vec3(0, 0, 1));
+  camera.projection = glm::perspectiveRH_NO(0.6f, 1.0f, 0.1f, 40.0f);
+  Scene scene_before = cube_over_ground();
+  scene_before.instances[0].base_color = glm::vec3(0.02f);
+  Light sun = tilted_sun();
+  sun.direction = glm::normalize(glm::vec3(0.0f, -1.0f, -1.0f));
+  const glm::vec3 sky(0.6f);
+  RenderSettings settings = playback_settings();
+  settings.samples = 8;
+  GpuScene scene(context(), scene_before);
+  Renderer renderer(context());
+  renderer.begin(scene, camera, {sun}, sky, kSize, kSize, settings, true);
+  for (int frame = 0; frame < settings.samples; ++frame) renderer.add_frame();
+  const float last_x = -0.5f + 8 * 0.08f;
+  for (int step = 1; step <= 12; ++step) {  // (eight steps, then four frame changes that move nothing)
+    move_cube(scene, -0.5f + float(std::min(step, 8)) * 0.08f);
+    renderer.begin(scene, camera, {sun}, sky, kSize, kSize, settings, true);
+    renderer.add_frame();
+  }
+  const RenderOutput played = renderer.read();
+  GpuScene fresh_scene(context(), scene_before);
+  move_cube(fresh_scene, last_x);
+  Renderer fresh(context());
+  RenderSettings still = settings;
+  still.temporal_reuse = false;
+  const RenderOutput expected = fresh.render(fresh_scene, camera, {sun}, sky, kSize, kSize, still);
+  int sky_pixels = 0;
+  double worst = 0.0;
+  float nearest_on_sky = 1e30f;  // (the Depth pass: the nearest any of a pixel's samples saw)
+  for (int y = 1; y + 1 < kSize; ++y)
+    for (int x = 1; x + 1 < kSize; ++x) {
+    bool clear = true;  // (sky around it too: the cube's outline where it stopped is left out)
+    for (int dy = -1; dy <= 1; ++dy)
+      for (int dx = -1; dx <= 1; ++dx) clear = clear && expected.depth[size_t(y + dy) * kSize + size_t(x + dx)] >= 1e9f;
+    if (!clear) continue;
+    const size_t i = size_t(y) * kSize + size_t(x);
+    ++sky_pixels;
+    worst = std::max(worst, double(std::abs(played.combined[4 * i] - expected.combined[4 * i])));
+    nearest_on_sky = std::min(nearest_on_sky, played.depth[i]);
+    }
+  std::printf("sky pixels %d, largest |played - fresh| (red) %.3f, nearest depth seen there %g\n", sky_pixels, worst,
+              nearest_on_sky);
+  ASSERT_GT(sky_pixels, 100);
+  EXPECT_LT(worst, 0.05) << "the sky along the cube's way keeps none of it";
+  EXPECT_GT(nearest_on_sky, 0.0f) << "its history's depths in front of the camera";
+}
+
 // A thin dark bar lying on the ground (a stem on its wall), a centimetre
 // high and narrower than a pixel, seen from above: its pixels' history holds
 // the bar and the ground at depths closer than any tolerance can tell apart.
