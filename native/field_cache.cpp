@@ -67,9 +67,21 @@ void FieldCache::evict_to(size_t bytes) {
   }
 }
 
+std::optional<float> FieldCache::feature_size(uint64_t geometry) const {
+  std::lock_guard lock(mutex_);
+  auto it = feature_sizes_.find(geometry);
+  return it == feature_sizes_.end() ? std::nullopt : std::optional<float>(it->second);
+}
+
+void FieldCache::remember_feature_size(uint64_t geometry, float size) {
+  std::lock_guard lock(mutex_);
+  feature_sizes_[geometry] = size;
+}
+
 void FieldCache::clear() {
   std::lock_guard lock(mutex_);
   entries_.clear();
+  feature_sizes_.clear();
   bytes_ = 0;
 }
 

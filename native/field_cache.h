@@ -10,6 +10,7 @@
 #include <memory>
 #include <mutex>
 #include <optional>
+#include <unordered_map>
 
 #include "grid.h"
 #include "passes/fine_trace.h"
@@ -47,6 +48,12 @@ class FieldCache {
   std::optional<CachedField> find(const FieldKey& key);
   // A refined field; not kept when larger than the capacity.
   void insert(const FieldKey& key, const CachedField& field);
+  // A geometry's feature size (mesh_detail.h), by its digest: its probe
+  // builds the mesh's BVH, which a renderer that takes every field from here
+  // and casts no exact ray would build for nothing (the 2CylinderEngine's
+  // Preview render: 140 ms of 650). A few bytes a geometry; kept until clear().
+  std::optional<float> feature_size(uint64_t geometry) const;
+  void remember_feature_size(uint64_t geometry, float size);
   void clear();
 
   size_t bytes() const;
@@ -65,6 +72,7 @@ class FieldCache {
   const size_t capacity_;
   size_t bytes_ = 0;
   std::list<Entry> entries_;  // most recently used first
+  std::unordered_map<uint64_t, float> feature_sizes_;  // geometry digest -> feature size
 };
 
 }  // namespace rtsdf

@@ -298,10 +298,14 @@ const PackedField* ObjectFields::packed_field(uint32_t mesh) const {
 float ObjectFields::feature_size(GpuScene& scene, uint32_t mesh) {
   const Mesh& geometry = scene.scene().meshes[mesh];
   auto it = features_.find(mesh);
-  if (it == features_.end() || it->second.triangles != geometry.triangle_count())
-    it = features_
-             .insert_or_assign(mesh, Feature{geometry.triangle_count(), mesh_feature_size(geometry, scene.mesh_bvh(mesh))})
-             .first;
+  if (it == features_.end() || it->second.triangles != geometry.triangle_count()) {
+    // (measured once per geometry for the device's renderers: FieldCache::feature_size)
+    const uint64_t key = digest(scene, mesh);
+    const std::optional<float> known = cache_ ? cache_->feature_size(key) : std::nullopt;
+    const float size = known ? *known : mesh_feature_size(geometry, scene.mesh_bvh(mesh));
+    if (cache_ && !known) cache_->remember_feature_size(key, size);
+    it = features_.insert_or_assign(mesh, Feature{geometry.triangle_count(), size}).first;
+  }
   return it->second.size;
 }
 

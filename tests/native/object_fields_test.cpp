@@ -523,6 +523,19 @@ TEST_F(ObjectFieldsTest, ANewRendererTakesRefinedFieldsAndTracesNothing) {
   EXPECT_LT(largest_difference(next.shadow, refined.shadow), 1e-3) << "a taken field is the field it would have built";
 }
 
+// A renderer that takes every field refined from the cache, and casts no
+// exact ray, builds no BVH: the meshes' feature sizes, whose probe builds
+// one, come from the cache too.
+TEST_F(ObjectFieldsTest, ARendererThatTakesEveryFieldBuildsNoBvh) {
+  auto cache = std::make_shared<FieldCache>(size_t(64) << 20);
+  render_with(cache, sphere_box_ground());
+  GpuScene gpu_scene(context(), sphere_box_ground());
+  Renderer renderer(context(), cache);
+  const RenderOutput next = renderer.render(gpu_scene, top_view(3.0f), {overhead_sun()}, glm::vec3(0.1f), 48, 48, small_fields());
+  EXPECT_EQ(next.stats.fields_reused, 2);
+  EXPECT_EQ(gpu_scene.bvh_build_ms(), 0.0) << "no BVH built";
+}
+
 TEST_F(ObjectFieldsTest, OtherGeometryOrSettingsBuildTheirOwnField) {
   auto cache = std::make_shared<FieldCache>(size_t(64) << 20);
   render_with(cache, sphere_box_ground());
