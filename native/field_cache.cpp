@@ -25,13 +25,17 @@ bool FieldKey::operator==(const FieldKey& other) const {
          fine.trace_everywhere == other.fine.trace_everywhere && fine.skip_converged == other.fine.skip_converged;
 }
 
-uint64_t geometry_digest(const Mesh& mesh) {
-  uint64_t hash = 0xcbf29ce484222325ull;
+uint64_t topology_digest(const Mesh& mesh) {
   const uint64_t counts[2] = {mesh.positions.size(), mesh.indices.size()};
-  hash = fnv1a(counts, sizeof(counts), hash);
-  hash = fnv1a(mesh.positions.data(), mesh.positions.size() * sizeof(glm::vec3), hash);
+  const uint64_t hash = fnv1a(counts, sizeof(counts), 0xcbf29ce484222325ull);
   return fnv1a(mesh.indices.data(), mesh.indices.size() * sizeof(uint32_t), hash);
 }
+
+uint64_t geometry_digest(const Mesh& mesh, uint64_t topology) {
+  return fnv1a(mesh.positions.data(), mesh.positions.size() * sizeof(glm::vec3), topology);
+}
+
+uint64_t geometry_digest(const Mesh& mesh) { return geometry_digest(mesh, topology_digest(mesh)); }
 
 FieldCache::FieldCache(size_t capacity_bytes) : capacity_(capacity_bytes) {}
 

@@ -34,6 +34,12 @@ struct FieldKey {
 
 // A digest of a mesh's positions and triangles (its name and normals do not shape its field).
 uint64_t geometry_digest(const Mesh& mesh);
+// A digest of its triangles alone (their vertex indices, and how many
+// vertices): meshes that share it may be copies whose vertices differ by
+// rounding (near_copy).
+uint64_t topology_digest(const Mesh& mesh);
+// geometry_digest from the mesh's topology_digest, already taken.
+uint64_t geometry_digest(const Mesh& mesh, uint64_t topology);
 
 struct CachedField {
   std::shared_ptr<PackedField> packed;  // read-only once cached: its holders only read it

@@ -140,13 +140,17 @@ class ObjectFields {
   // Packs the fields for the march, with more room for those that need it.
   void pack(const std::vector<Field*>& fields);
   void update_memory_stats();
-  // A mesh's geometry_digest, read again only when its geometry changed.
+  // A mesh's geometry_digest (and topology_digest), read again only when its geometry changed.
   uint64_t digest(const GpuScene& scene, uint32_t mesh);
+  uint64_t topology(const GpuScene& scene, uint32_t mesh);
+  // Whether mesh b is a near copy of mesh a (near_copy), remembered by their digests.
+  bool near_copies(const GpuScene& scene, uint32_t a, uint32_t b);
   // The mesh's feature size, measured once per set of triangles (features_).
   float feature_size(GpuScene& scene, uint32_t mesh);
   struct Digest {
     uint64_t version = 0;  // the mesh's version it was taken from
     uint64_t digest = 0;
+    uint64_t topology = 0;
   };
 
   const vk::Context& context_;
@@ -158,6 +162,7 @@ class ObjectFields {
   uint64_t scene_id_ = 0;
   std::vector<Field> fields_;  // by mesh index (of the first mesh of each geometry), in the march's layout order
   std::map<uint32_t, Digest> digests_;  // per caster mesh
+  std::map<std::pair<uint64_t, uint64_t>, bool> near_copies_;  // near_copies' verdicts, by the two digests
   // A mesh's feature size (mesh_detail.h), kept while its triangles are the
   // same ones: a deforming mesh keeps its first shape's, and so its grid.
   struct Feature {

@@ -162,7 +162,21 @@ TEST_F(ObjectFieldsTest, MeshesOfOneGeometryShareOneField) {
   for (size_t i = 0; i < shared.shadow.size(); ++i) worst = std::max(worst, std::abs(shared.shadow[i] - one_mesh.shadow[i]));
   EXPECT_LT(worst, 1e-4) << "the copies shade as instances of one mesh";
 
-  copies.meshes[5].positions[0] += glm::vec3(0.0f, 0.0f, 0.01f);  // (one vertex of one copy)
+  // Copies whose vertices differ by rounding (a generator run twice) share
+  // too: every vertex of two copies 2e-5 off (5e-5 of their size), a
+  // thousandth of a fine voxel.
+  Scene rounded = copies;
+  for (int copy : {4, 9})
+    for (size_t v = 0; v < rounded.meshes[copy].positions.size(); ++v)
+      rounded.meshes[copy].positions[v] += glm::vec3(v % 2 ? 2e-5f : -2e-5f, 0.0f, v % 3 ? 1e-5f : 0.0f);
+  const RenderOutput near = quick_render(rounded, 5.0f, 96);
+  EXPECT_EQ(near.stats.fields, 1);
+  EXPECT_EQ(near.stats.field_instances, 16);
+  worst = 0.0f;
+  for (size_t i = 0; i < near.shadow.size(); ++i) worst = std::max(worst, std::abs(near.shadow[i] - one_mesh.shadow[i]));
+  EXPECT_LT(worst, 1e-4) << "near copies shade as instances of one mesh";
+
+  copies.meshes[5].positions[0] += glm::vec3(0.0f, 0.0f, 0.01f);  // (one vertex of one copy: 2.5% of its size)
   EXPECT_EQ(quick_render(copies, 5.0f, 96).stats.fields, 2);
 
   // A copy that deforms leaves the others' field; the same shape again joins it.
