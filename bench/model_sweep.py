@@ -9,7 +9,9 @@ For each file Blender 3.4 imports (glTF, OBJ, FBX, Collada, PLY, STL, and
 assimp-testmodels, /usr/share/assimp/models): a new Blender imports it, puts
 it on a ground plane under a sun, frames it with a camera and renders one
 frame with RTSDF (F12, 192x108, the Final preset's settings at 4 samples).
-Writes OUT/sweep.csv (file, outcome, seconds, triangles, message) and each
+Writes OUT/sweep.csv (file, outcome, seconds, triangles, fields, instances,
+field_mb: from RTSDF's render log, the fields built for the instances that
+cast shadows and their memory; message) and each
 image as OUT/images/N.png, and prints a tally of the outcomes:
 - ok: an image (its pixels are not checked for NaN: Blender clamps them in
   a PNG, and an OpenEXR written and read back through Blender lost them
@@ -26,6 +28,7 @@ RTSDF_BUILD_DIR is given, default build/).
 import argparse
 import csv
 import os
+import re
 import subprocess
 import sys
 import time
@@ -33,6 +36,7 @@ import time
 HERE = os.path.dirname(os.path.abspath(__file__))
 FORMATS = {".gltf", ".glb", ".obj", ".fbx", ".dae", ".ply", ".stl", ".blend"}
 MARK = "RTSDF_SWEEP:"
+FIELDS = re.compile(r"(\d+) fields for (\d+) instances, ([\d.]+) MB")  # (the render log's line)
 
 
 def blender_side(path, image_path):
@@ -151,11 +155,13 @@ def driver():
         seconds = time.perf_counter() - start
         tally[outcome] = tally.get(outcome, 0) + 1
         relative = os.path.relpath(path, args.models)
-        rows.append([relative, outcome, f"{seconds:.1f}", triangles, message])
+        found = FIELDS.findall(run.stdout) if outcome == "ok" else []
+        fields = list(found[-1]) if found else ["", "", ""]
+        rows.append([relative, outcome, f"{seconds:.1f}", triangles] + fields + [message])
         print(f"{number:3d} {outcome:9s} {seconds:6.1f} s {relative} {message}", flush=True)
     with open(os.path.join(args.out, "sweep.csv"), "w", newline="") as f:
         writer = csv.writer(f)
-        writer.writerow(["file", "outcome", "seconds", "triangles", "message"])
+        writer.writerow(["file", "outcome", "seconds", "triangles", "fields", "instances", "field_mb", "message"])
         writer.writerows(rows)
     print(", ".join(f"{k} {v}" for k, v in sorted(tally.items())), f"of {len(files)} files")
     return 1 if tally.get("crashed") else 0

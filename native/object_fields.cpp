@@ -53,14 +53,22 @@ bool shape_changed(const Field& field, const GpuScene& scene) {
 // fine resolution with its detail's factor of 2 (1/256 of the size).
 constexpr float kNearCopyShare = 5e-4f;
 
-// Whether b has a's triangles and each of its vertices lies within
-// share * a's size of a's.
-bool near_copy(const Mesh& a, const Mesh& b, float share) {
-  if (a.positions.size() != b.positions.size() || a.indices != b.indices) return false;
-  glm::vec3 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
-  for (const glm::vec3& p : a.positions) lo = glm::min(lo, p), hi = glm::max(hi, p);
+// The meshes of one topology a mesh is compared with: the last ones found
+// with a field of their own. Near copies come in runs (a generator run
+// again, a part copied); a scene of thousands of boxes of one topology and
+// as many sizes would otherwise compare each with all the others.
+constexpr size_t kNearCopyCandidates = 32;
+
+// How far a near copy's vertices may lie from those of a mesh of bounds lo, hi.
+float near_copy_tolerance(glm::vec3 lo, glm::vec3 hi) {
   const glm::vec3 e = hi - lo;
-  const float tolerance = share * std::max(e.x, std::max(e.y, e.z));
+  return kNearCopyShare * std::max(e.x, std::max(e.y, e.z));
+}
+
+// Whether b has a's triangles and each of its vertices lies within
+// `tolerance` of a's.
+bool near_copy(const Mesh& a, const Mesh& b, float tolerance) {
+  if (a.positions.size() != b.positions.size() || a.indices != b.indices) return false;
   for (size_t i = 0; i < a.positions.size(); ++i)
     if (!(glm::distance(a.positions[i], b.positions[i]) <= tolerance)) return false;
   return true;
@@ -191,9 +199,9 @@ void ObjectFields::sync(GpuScene& scene, const ObjectFieldSettings& settings, Ma
         continue;
       }
       std::vector<size_t>& alike = shapes[topology(scene, meshes[k])];
-      for (size_t j : alike)
-        if (near_copies(scene, meshes[j], meshes[k])) {
-          twin[k] = j;
+      for (size_t n = alike.size(); n > 0 && n + kNearCopyCandidates > alike.size(); --n)
+        if (near_copies(scene, meshes[alike[n - 1]], bounds[alike[n - 1]], meshes[k], bounds[k])) {
+          twin[k] = alike[n - 1];
           break;
         }
       if (twin[k] == k) alike.push_back(k);
@@ -363,13 +371,19 @@ uint64_t ObjectFields::topology(const GpuScene& scene, uint32_t mesh) {
   return digests_[mesh].topology;
 }
 
-bool ObjectFields::near_copies(const GpuScene& scene, uint32_t a, uint32_t b) {
+bool ObjectFields::near_copies(const GpuScene& scene, uint32_t a, const Bounds& first, uint32_t b,
+                               const Bounds& second) {
+  // (bounds further apart than the tolerance rule it out without the vertices)
+  const float tolerance = near_copy_tolerance(first.lo, first.hi);
+  if (!(glm::all(glm::lessThanEqual(glm::abs(first.lo - second.lo), glm::vec3(tolerance))) &&
+        glm::all(glm::lessThanEqual(glm::abs(first.hi - second.hi), glm::vec3(tolerance)))))
+    return false;
   const std::pair<uint64_t, uint64_t> key{digest(scene, a), digest(scene, b)};
   auto it = near_copies_.find(key);
   if (it != near_copies_.end()) return it->second;
   // (a deforming mesh brings new digests every frame: the verdicts of the shapes gone are let go)
   if (near_copies_.size() >= 4096) near_copies_.clear();
-  return near_copies_[key] = near_copy(scene.scene().meshes[a], scene.scene().meshes[b], kNearCopyShare);
+  return near_copies_[key] = near_copy(scene.scene().meshes[a], scene.scene().meshes[b], tolerance);
 }
 
 void ObjectFields::pack(const std::vector<Field*>& fields) {

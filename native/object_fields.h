@@ -143,8 +143,9 @@ class ObjectFields {
   // A mesh's geometry_digest (and topology_digest), read again only when its geometry changed.
   uint64_t digest(const GpuScene& scene, uint32_t mesh);
   uint64_t topology(const GpuScene& scene, uint32_t mesh);
-  // Whether mesh b is a near copy of mesh a (near_copy), remembered by their digests.
-  bool near_copies(const GpuScene& scene, uint32_t a, uint32_t b);
+  // Whether mesh b is a near copy of mesh a (near_copy; their bounds given),
+  // remembered by their digests.
+  bool near_copies(const GpuScene& scene, uint32_t a, const Bounds& first, uint32_t b, const Bounds& second);
   // The mesh's feature size, measured once per set of triangles (features_).
   float feature_size(GpuScene& scene, uint32_t mesh);
   struct Digest {
