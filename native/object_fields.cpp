@@ -210,7 +210,9 @@ void ObjectFields::sync(GpuScene& scene, const ObjectFieldSettings& settings, Ma
   std::vector<uint32_t> owners;  // the meshes with a field, in mesh order
   std::vector<Bounds> owner_bounds;
   std::vector<size_t> field_index(meshes.size());  // per mesh: its field in fields_
+  readers_.clear();
   for (size_t k = 0; k < meshes.size(); ++k) {
+    readers_[meshes[k]] = meshes[twin[k]];
     if (twin[k] != k) {
       field_index[k] = field_index[twin[k]];
       continue;
@@ -329,15 +331,10 @@ void ObjectFields::update_memory_stats() {
 }
 
 const PackedField* ObjectFields::packed_field(uint32_t mesh) const {
+  auto owner = readers_.find(mesh);  // (a mesh that shares a copy's field reads that one)
+  if (owner == readers_.end()) return nullptr;
   for (const Field& f : fields_)
-    if (f.mesh == mesh && f.updates > 0) return f.packed.get();
-  // (a mesh that shares its twin's field)
-  auto own = digests_.find(mesh);
-  if (own == digests_.end()) return nullptr;
-  for (const Field& f : fields_) {
-    auto other = digests_.find(f.mesh);
-    if (other != digests_.end() && other->second.digest == own->second.digest && f.updates > 0) return f.packed.get();
-  }
+    if (f.mesh == owner->second && f.updates > 0) return f.packed.get();
   return nullptr;
 }
 

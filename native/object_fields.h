@@ -108,7 +108,9 @@ class ObjectFields {
   void clear() { fields_.clear(); placements_.clear(); }
 
   const ObjectFieldStats& stats() const { return stats_; }
-  // A mesh's field as the march reads it (in its own space), or null if it has no field or was never refined.
+  // A mesh's field as the march reads it (in its own space; for a mesh
+  // that shares a copy's field, that one), or null if it has no field or
+  // was never refined.
   const PackedField* packed_field(uint32_t mesh) const;
   // Per instance of the scene: the world size of its field's voxel (0: in no field).
   const std::vector<float>& instance_voxels() const { return instance_voxels_; }
@@ -163,6 +165,7 @@ class ObjectFields {
   uint64_t scene_id_ = 0;
   std::vector<Field> fields_;  // by mesh index (of the first mesh of each geometry), in the march's layout order
   std::map<uint32_t, Digest> digests_;  // per caster mesh
+  std::map<uint32_t, uint32_t> readers_;  // per caster mesh with a field: the mesh whose field it reads (its own or a copy's)
   std::map<std::pair<uint64_t, uint64_t>, bool> near_copies_;  // near_copies' verdicts, by the two digests
   // A mesh's feature size (mesh_detail.h), kept while its triangles are the
   // same ones: a deforming mesh keeps its first shape's, and so its grid.

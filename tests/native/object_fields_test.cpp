@@ -175,6 +175,15 @@ TEST_F(ObjectFieldsTest, MeshesOfOneGeometryShareOneField) {
   worst = 0.0f;
   for (size_t i = 0; i < near.shadow.size(); ++i) worst = std::max(worst, std::abs(near.shadow[i] - one_mesh.shadow[i]));
   EXPECT_LT(worst, 1e-4) << "near copies shade as instances of one mesh";
+  {
+    GpuScene near_scene(context(), rounded);
+    Renderer near_renderer(context());
+    near_renderer.begin(near_scene, top_view(5.0f), {overhead_sun()}, glm::vec3(0.1f), 32, 32, viewport_settings(),
+                        true);
+    near_renderer.add_frame();
+    ASSERT_NE(near_renderer.mesh_field(1), nullptr);
+    EXPECT_EQ(near_renderer.mesh_field(4), near_renderer.mesh_field(1)) << "a near copy reads the field it shares";
+  }
 
   copies.meshes[5].positions[0] += glm::vec3(0.0f, 0.0f, 0.01f);  // (one vertex of one copy: 2.5% of its size)
   EXPECT_EQ(quick_render(copies, 5.0f, 96).stats.fields, 2);
