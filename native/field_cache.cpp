@@ -35,8 +35,6 @@ uint64_t geometry_digest(const Mesh& mesh, uint64_t topology) {
   return fnv1a(mesh.positions.data(), mesh.positions.size() * sizeof(glm::vec3), topology);
 }
 
-uint64_t geometry_digest(const Mesh& mesh) { return geometry_digest(mesh, topology_digest(mesh)); }
-
 FieldCache::FieldCache(size_t capacity_bytes) : capacity_(capacity_bytes) {}
 
 std::optional<CachedField> FieldCache::find(const FieldKey& key) {

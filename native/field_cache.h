@@ -32,13 +32,12 @@ struct FieldKey {
   bool operator==(const FieldKey& other) const;
 };
 
-// A digest of a mesh's positions and triangles (its name and normals do not shape its field).
-uint64_t geometry_digest(const Mesh& mesh);
-// A digest of its triangles alone (their vertex indices, and how many
+// A digest of a mesh's triangles alone (their vertex indices, and how many
 // vertices): meshes that share it may be copies whose vertices differ by
 // rounding (near_copy).
 uint64_t topology_digest(const Mesh& mesh);
-// geometry_digest from the mesh's topology_digest, already taken.
+// A digest of its positions and triangles, from its topology_digest (its
+// name and normals do not shape its field).
 uint64_t geometry_digest(const Mesh& mesh, uint64_t topology);
 
 struct CachedField {
