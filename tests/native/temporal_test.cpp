@@ -239,6 +239,75 @@ TEST_F(TemporalTest, ReprojectionFollowsACubeThatTurnsAndStretches) {
   EXPECT_EQ(at.w, 1.0f);
 }
 
+// A sheet striped three pixels wide (light and dark material slots), which
+// casts no shadow, floats over the ground under a sun straight above, and
+// slides along x by 0.37 of a pixel a step for 16 steps of one frame each:
+// its last playback frame stays near a converged render of that pose.
+// History is read again at each step; read bilinearly, its blur piled up
+// step after step and washed the stripes out (0.28 of their contrast from
+// the converged render, against 0.20 through the Catmull-Rom read; the
+// engine sample's fins: docs/benchmarks.md). What is left is a kink's
+// error: a box-filtered edge is no band-limited signal, and any
+// interpolation of it errs by a few percent at each step.
+TEST_F(TemporalTest, AMovingSurfacesFineDetailStaysSharpDuringPlayback) {
+  constexpr float kPixel = 4.0f / kSize, kStripe = 3.0f * kPixel, kStep = 0.37f * kPixel;
+  constexpr int kStripes = 12, kSteps = 16;
+  Scene striped;
+  Mesh stripes;
+  for (int k = 0; k < kStripes; ++k) {
+    const float x = -0.5f * kStripes * kStripe + k * kStripe;
+    reference::append(stripes, reference::sheet({x, -0.6f}, {x + kStripe, 0.6f}, 0.5f));
+    stripes.materials.insert(stripes.materials.end(), 2, uint32_t(k % 2));
+  }
+  striped.meshes = {stripes, reference::sheet({-20, -20}, {20, 20}, 0.0f)};
+  Instance sheet{0, glm::mat4(1.0f), glm::vec3(0.8f)};
+  sheet.materials = {Material{glm::vec3(0.9f)}, Material{glm::vec3(0.1f)}};
+  sheet.casts_shadow = false;
+  striped.instances = {sheet, {1, glm::mat4(1.0f), glm::vec3(0.8f)}};
+  Light sun = tilted_sun();
+  sun.direction = {0, 0, -1};
+  auto at = [](float x) { return std::vector<glm::mat4>{glm::translate(glm::mat4(1.0f), glm::vec3(x, 0, 0)), glm::mat4(1.0f)}; };
+
+  GpuScene scene(context(), striped);
+  Renderer renderer(context());
+  RenderSettings settings = playback_settings();
+  settings.samples = 16;
+  draw_top_view(renderer, scene, {sun}, glm::vec3(0.05f), settings, 16);
+  for (int step = 1; step <= kSteps; ++step) {
+    scene.set_transforms(at(step * kStep));
+    draw_top_view(renderer, scene, {sun}, glm::vec3(0.05f), settings, 1);
+  }
+  const RenderOutput played = renderer.read();
+  GpuScene fresh_scene(context(), striped);
+  fresh_scene.set_transforms(at(kSteps * kStep));
+  Renderer fresh(context());
+  settings.temporal_reuse = false;
+  settings.samples = 64;
+  const RenderOutput expected = fresh.render(fresh_scene, top_view(), {sun}, glm::vec3(0.05f), kSize, kSize, settings);
+
+  // The sheet's pixels two pixels in from its edges at its last pose.
+  std::vector<size_t> inside;
+  const float left = -0.5f * kStripes * kStripe + kSteps * kStep;
+  for (size_t i = 0; i < expected.shadow.size(); ++i) {
+    const double x = (double(i % kSize) + 0.5) / kSize * 4.0 - 2.0, y = 2.0 - (double(i / kSize) + 0.5) / kSize * 4.0;
+    if (x > left + 2 * kPixel && x < left + kStripes * kStripe - 2 * kPixel && std::abs(y) < 0.6 - 2 * kPixel)
+      inside.push_back(i);
+  }
+  double mean = 0.0;
+  for (size_t i : inside) mean += brightness(expected, i) / double(inside.size());
+  double contrast = 0.0, error = 0.0;
+  for (size_t i : inside) {
+    contrast += std::pow(brightness(expected, i) - mean, 2.0) / double(inside.size());
+    error += std::pow(brightness(played, i) - brightness(expected, i), 2.0) / double(inside.size());
+  }
+  contrast = std::sqrt(contrast), error = std::sqrt(error);
+  std::printf("stripes: %zu pixels, contrast (RMS about their mean) %.4f, last playback frame's RMS from a converged "
+              "render %.4f (%.2f of the contrast)\n", inside.size(), contrast, error, error / contrast);
+  ASSERT_GT(inside.size(), 300u);
+  ASSERT_GT(contrast, 0.05) << "the stripes show at this size";
+  EXPECT_LT(error, 0.24 * contrast) << "the stripes washed out during playback";
+}
+
 // A square flattened onto z = 0.5 (its transform scales z to 0, so it has no
 // inverse) slides along x: its motion is its origin's, not NaN.
 TEST_F(TemporalTest, AFlattenedInstanceMovesWithItsOrigin) {
