@@ -14,8 +14,10 @@ layout(buffer_reference, std430, buffer_reference_align = 4) readonly buffer Fie
 
 #define RTSDF_MAX_NEARBY_FIELDS 16
 #define RTSDF_FIELD_STACK 32
-// The instances near the part of a ray being marched (see gather_fields).
+// The instances near the part of a ray being marched (see gather_fields),
+// and for each where the ray leaves its leaf's box.
 uint nearby_fields[RTSDF_MAX_NEARBY_FIELDS];
+float nearby_exits[RTSDF_MAX_NEARBY_FIELDS];
 
 // Texels `index` and `index + 1` of half floats packed from word `first` on
 // (two words read either way: a select, not a branch, for SIMD lanes that differ).
@@ -109,8 +111,10 @@ int gather_fields(vec3 origin, vec3 inv_dir, float t0, float t1, float reach) {
       if (top + 2 <= RTSDF_FIELD_STACK) { stack[top++] = node.first; stack[top++] = node.first + 1u; }
       continue;
     }
+    float exit = ray_box_span(origin, inv_dir, node.lo.xyz, node.hi.xyz).y;
     for (uint i = node.first; i < node.first + node.count; ++i) {
       if (count == RTSDF_MAX_NEARBY_FIELDS) return -1;
+      nearby_exits[count] = exit;
       nearby_fields[count++] = i;
     }
   }
@@ -140,18 +144,45 @@ int gather_fields(vec3 origin, vec3 inv_dir, float t0, float t1, float reach) {
 // march leaves the share to a ray, as through a sheet.
 const float kContactVoxels = 0.25;
 bool sampled_contact = false;
-vec3 nearby_distance(vec3 world, int count) {
-  vec3 best = vec3(kFarAway, kFarAway, 0.0);
-  float bound_voxel = 0.0;
-  float second = kFarAway, second_voxel = 0.0;  // the next clearance, another field's
-  for (int k = 0; k < count; ++k) {
-    vec3 d = field_distance(nearby_fields[k], world);
-    if (d.x < best.x) best.x = d.x, bound_voxel = d.z;
-    if (d.y < best.y) second = best.y, second_voxel = best.z, best.yz = d.yz;
-    else if (d.y < second) second = d.y, second_voxel = d.z;
-  }
-  if (best.y >= kFarAway) best.z = bound_voxel;
-  else if (best.y < kContactVoxels * best.z && second < max(-best.y, 0.0) + kContactVoxels * second_voxel)
+// The smallest bound and clearances over the fields sampled so far (nearby_take).
+struct Nearby {
+  vec3 best;
+  float bound_voxel;
+  float second, second_voxel;  // the next clearance, another field's
+};
+
+Nearby nearby_none() { return Nearby(vec3(kFarAway, kFarAway, 0.0), 0.0, kFarAway, 0.0); }
+
+void nearby_take(inout Nearby n, vec3 d) {
+  if (d.x < n.best.x) n.best.x = d.x, n.bound_voxel = d.z;
+  if (d.y < n.best.y) n.second = n.best.y, n.second_voxel = n.best.z, n.best.yz = d.yz;
+  else if (d.y < n.second) n.second = d.y, n.second_voxel = d.z;
+}
+
+vec3 nearby_result(Nearby n) {
+  vec3 best = n.best;
+  if (best.y >= kFarAway) best.z = n.bound_voxel;
+  else if (best.y < kContactVoxels * best.z && n.second < max(-best.y, 0.0) + kContactVoxels * n.second_voxel)
     best.y = min(best.y, -kContactVoxels * best.z), sampled_contact = true;
   return best;
+}
+
+vec3 nearby_distance(vec3 world, int count) {
+  Nearby n = nearby_none();
+  for (int k = 0; k < count; ++k) nearby_take(n, field_distance(nearby_fields[k], world));
+  return nearby_result(n);
+}
+
+// nearby_distance at the point t along the ray the fields were gathered
+// on: a field whose box the ray has left gives nothing more (neither a
+// clearance nor a bound worth a step: the ray does not come back), so it is
+// not sampled. Where parts lie close together (a CAD assembly, a kit of
+// fasteners on a plate), a segment's fields are gathered once and the ray
+// passes them one by one.
+vec3 nearby_distance_on_ray(vec3 origin, vec3 dir, float t, int count) {
+  Nearby n = nearby_none();
+  vec3 world = origin + dir * t;
+  for (int k = 0; k < count; ++k)
+    if (t <= nearby_exits[k]) nearby_take(n, field_distance(nearby_fields[k], world));
+  return nearby_result(n);
 }

@@ -231,7 +231,7 @@ float visibility(vec3 origin, vec3 dir, float t_min, float t_max, float tan_radi
       if (t >= t_max || t >= segment_end) continue;
     }
     vec3 sample_ = nearby == 1 ? field_distance_at(only_field, field_origin + field_dir * t)
-                               : nearby_distance(origin + dir * t, nearby);
+                               : nearby_distance_on_ray(origin, dir, t, nearby);
     float h = sample_.y, voxel = sample_.z;
     float epsilon = pc.shadow_epsilon * voxel, max_step = pc.max_step * voxel;
     if (!jittered) {
