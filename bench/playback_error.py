@@ -3,7 +3,7 @@
 number of exact rays.
 
 usage: bench/playback_error.py WORK_DIR SCENE[,SCENE...] [--exact-rays N[,N...]]
-                               [--short-history-rays K] [--final]
+                               [--short-history-rays K] [--final] [--save DIR]
 
 WORK_DIR is a bench/run output's work directory (DIR/work: each scene's
 scene.pkl and Cycles references). bench/run's playback column plays its
@@ -22,7 +22,9 @@ of Cycles' render without shadows: outlines, creases, fins) or elsewhere
 exact rays where history is short (the native default, 4, otherwise; 1: as
 in any frame). --final plays bench/run's Final row instead of Preview (16
 samples, its own 4 exact rays unless --exact-rays is given): its playback
-ratio is the one in results.csv.
+ratio is the one in results.csv. --save writes, for a look, each scene's
+last playback frame, still frame and Cycles reference as PNGs into DIR
+(SCENE_raysN_played.png, ..._still.png, SCENE_cycles.png).
 """
 import argparse
 import importlib.machinery
@@ -73,6 +75,14 @@ def excess_at_edges(played, still, refs):
     return float(excess[shadowed & edges].sum() / count), float(excess[shadowed & ~edges].sum() / count)
 
 
+def save_frames(directory, prefix, played, still, names=("played", "still")):
+    """PNGs of the frames compared (display gamma, as bench/run's images)."""
+    from PIL import Image
+    os.makedirs(directory, exist_ok=True)
+    for name, image in zip(names, (played, still)):
+        Image.fromarray(bench.display(image)).save(os.path.join(directory, f"{prefix}_{name}.png"))
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("work")
@@ -81,6 +91,7 @@ def main():
                                              "with --final, the Final row's)")
     parser.add_argument("--short-history-rays", type=int, help="the factor on the exact rays where history is short")
     parser.add_argument("--final", action="store_true", help="bench/run's Final row, not its Preview row")
+    parser.add_argument("--save", metavar="DIR", help="write the frames compared as PNGs into DIR")
     args = parser.parse_args()
     session = bench.sessions()[0]
     rows = bench.sweep("rtsdf", True, True)
@@ -101,6 +112,9 @@ def main():
             figures = bench.playback_figures(played, still, refs)
             lag, noise = lag_and_noise(played[-1], still, refs)
             at_edges, elsewhere = excess_at_edges(played[-1], still, refs)
+            if args.save:
+                save_frames(args.save, f"{scene}_rays{rays}", played[-1], still)
+                save_frames(args.save, scene, refs["after_shadowed"][..., :3], None, names=("cycles",))
             print(f"{scene}: exact rays {rays}: playback frame shadow RMSE {figures['playback_rmse']}, "
                   f"{figures['playback_ratio']}x the still frame's; from the still frame, lag {lag:.4f}, "
                   f"noise {noise:.4f}; squared error beyond the still frame's: {at_edges:.6f} at geometry "
