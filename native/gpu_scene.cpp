@@ -289,7 +289,9 @@ void GpuScene::build_bottom_level(uint32_t mesh, bool same_triangles) {
     level.bvh = build_mesh_bvh(geometry);
     level.built_cost = bvh_cost(level.bvh);
   }
-  level.pieces = mesh_pieces(geometry);
+  if (!same_triangles || level.topology.piece.size() != geometry.triangle_count())
+    level.topology = piece_topology(geometry);
+  level.pieces = mesh_pieces(geometry, level.topology);
   level.dipoles = winding_dipoles(level.bvh, geometry, level.pieces);
   // The first corner's w is the thickness of the triangle's piece (0: a
   // sheet), the second's -1 where the triangle faces into its piece, see mesh_topology.h.

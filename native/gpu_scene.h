@@ -182,7 +182,8 @@ class GpuScene {
   struct BottomLevel {
     Bvh bvh;
     float built_cost = 0.0f;  // bvh_cost when the tree was built (its refits are held to it)
-    Pieces pieces;  // (see mesh_topology.h)
+    PieceTopology topology;  // kept while its triangles stay the same (see mesh_topology.h)
+    Pieces pieces;
     std::vector<gpu::WindingDipole> dipoles;
     std::vector<glm::vec4> corners;  // as in RayStructures::triangles
   };

@@ -40,12 +40,22 @@ bool encloses_volume(bool has_boundary, glm::dvec3 vector_area, double area) {
 
 }  // namespace
 
-Pieces mesh_pieces(const Mesh& mesh) {
+namespace {
+
+glm::vec3 lowest_corner(const Mesh& mesh) {
+  glm::vec3 lo(std::numeric_limits<float>::max());
+  for (const glm::vec3& p : mesh.positions) lo = glm::min(lo, p);
+  return lo;
+}
+
+}  // namespace
+
+PieceTopology piece_topology(const Mesh& mesh) {
   const size_t triangles = mesh.triangle_count();
   // Vertices at the same position (to a millionth of the mesh's size, as
   // rounding leaves seams and poles) are one vertex.
-  glm::vec3 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
-  for (const glm::vec3& p : mesh.positions) lo = glm::min(lo, p), hi = glm::max(hi, p);
+  glm::vec3 lo = lowest_corner(mesh), hi(-std::numeric_limits<float>::max());
+  for (const glm::vec3& p : mesh.positions) hi = glm::max(hi, p);
   const glm::vec3 extent = hi - lo;
   const double cell = std::max(1e-30, 1e-6 * double(std::max(extent.x, std::max(extent.y, extent.z))));
   std::unordered_map<Cell, uint32_t, CellHash> welded;
@@ -123,33 +133,42 @@ Pieces mesh_pieces(const Mesh& mesh) {
       for (uint32_t t : patch) turn[t] = int8_t(-turn[t]);
   }
 
-  std::vector<uint8_t> has_boundary(triangles, 0);
+  PieceTopology topology{std::vector<uint32_t>(triangles), std::move(turn), std::vector<uint8_t>(triangles, 0)};
+  for (uint32_t t = 0; t < triangles; ++t) topology.piece[t] = pieces.find(t);
   for (const auto& [key, use] : edges)
-    if (use.count == 1) has_boundary[pieces.find(use.triangle[0])] = 1;
+    if (use.count == 1) topology.has_boundary[topology.piece[use.triangle[0]]] = 1;
+  return topology;
+}
+
+Pieces mesh_pieces(const Mesh& mesh, const PieceTopology& topology) {
+  const size_t triangles = mesh.triangle_count();
   // Volume (divergence theorem, about the mesh's corner for precision), area
   // and vector area (the sum of area-weighted normals) per piece, oriented coherently.
+  const glm::vec3 lo = lowest_corner(mesh);
   std::vector<double> volume(triangles, 0.0), area(triangles, 0.0);
   std::vector<glm::dvec3> vector_area(triangles, glm::dvec3(0.0));
   for (uint32_t t = 0; t < triangles; ++t) {
     const glm::dvec3 a = glm::dvec3(mesh.positions[mesh.indices[3 * t]] - lo);
     const glm::dvec3 b = glm::dvec3(mesh.positions[mesh.indices[3 * t + 1]] - lo);
     const glm::dvec3 c = glm::dvec3(mesh.positions[mesh.indices[3 * t + 2]] - lo);
-    const uint32_t piece = pieces.find(t);
+    const uint32_t piece = topology.piece[t];
     const glm::dvec3 normal = 0.5 * glm::cross(b - a, c - a);
-    volume[piece] += double(turn[t]) * glm::dot(a, glm::cross(b, c)) / 6.0;
+    volume[piece] += double(topology.turn[t]) * glm::dot(a, glm::cross(b, c)) / 6.0;
     area[piece] += glm::length(normal);
-    vector_area[piece] += double(turn[t]) * normal;
+    vector_area[piece] += double(topology.turn[t]) * normal;
   }
   Pieces result{std::vector<float>(triangles), std::vector<uint8_t>(triangles)};
   for (uint32_t t = 0; t < triangles; ++t) {
-    const uint32_t piece = pieces.find(t);
-    result.thickness[t] = encloses_volume(has_boundary[piece] != 0, vector_area[piece], area[piece])
+    const uint32_t piece = topology.piece[t];
+    result.thickness[t] = encloses_volume(topology.has_boundary[piece] != 0, vector_area[piece], area[piece])
                               ? float(2.0 * std::abs(volume[piece]) / area[piece])
                               : 0.0f;
     // (a piece with negative volume is turned inside out as a whole)
-    result.faces_in[t] = (turn[t] < 0) != (volume[piece] < 0.0) ? 1 : 0;
+    result.faces_in[t] = (topology.turn[t] < 0) != (volume[piece] < 0.0) ? 1 : 0;
   }
   return result;
 }
+
+Pieces mesh_pieces(const Mesh& mesh) { return mesh_pieces(mesh, piece_topology(mesh)); }
 
 }  // namespace rtsdf

@@ -32,4 +32,21 @@ struct Pieces {
 };
 Pieces mesh_pieces(const Mesh& mesh);
 
+// What mesh_pieces finds from the triangles and which vertices share a
+// position, not from where they are: each triangle's piece (the index of
+// one of its triangles), the way it is turned to run coherently with its
+// piece (+1 as stored, -1 reversed), and whether the piece has edges that
+// one triangle alone uses (at its piece's index). A mesh that deforms keeps
+// its triangles and, as skinning and shape keys move them, which vertices
+// meet: its topology is found once and only the thicknesses measured anew
+// (they were three quarters of a deformed mesh's bottom-level rebuild).
+struct PieceTopology {
+  std::vector<uint32_t> piece;
+  std::vector<int8_t> turn;
+  std::vector<uint8_t> has_boundary;
+};
+PieceTopology piece_topology(const Mesh& mesh);
+// mesh_pieces of `mesh` in the shape it has now, with the topology found before.
+Pieces mesh_pieces(const Mesh& mesh, const PieceTopology& topology);
+
 }  // namespace rtsdf

@@ -44,6 +44,30 @@ TEST(MeshPieces, MixedOrientationIsMadeCoherent) {
   EXPECT_NEAR(winding_number(mixed, pieces, {1.5f, 0.5f, 0.5f}), 0.0, 1e-4);
 }
 
+// A mesh that deforms keeps its topology (GpuScene finds it once): the
+// mixed box and an open one squashed to a third of their height, measured
+// with the topology of their first shape, give what the squashed meshes
+// give measured afresh: the box 2 V / A = 2 (1/3) / (2 + 4/3) = 0.2 thick,
+// its turned triangles still turned, the open one still a sheet.
+TEST(MeshPieces, ADeformedMeshKeepsItsTopology) {
+  Mesh mixed = reference::box({0, 0, 0}, {1, 1, 1});
+  for (size_t t = 0; t < mixed.indices.size(); t += 6) std::swap(mixed.indices[t + 1], mixed.indices[t + 2]);
+  Mesh open_box = reference::box({0, 0, 0}, {1, 1, 1});
+  open_box.indices.erase(open_box.indices.begin() + 6, open_box.indices.begin() + 12);
+  for (const auto& [shape, thickness] : {std::pair{mixed, 0.2f}, std::pair{open_box, 0.0f}}) {
+    const PieceTopology topology = piece_topology(shape);
+    Mesh squashed = shape;
+    for (glm::vec3& p : squashed.positions) p.z /= 3.0f;
+    const Pieces kept = mesh_pieces(squashed, topology), fresh = mesh_pieces(squashed);
+    ASSERT_EQ(kept.thickness.size(), shape.triangle_count());
+    for (size_t t = 0; t < shape.triangle_count(); ++t) {
+      EXPECT_NEAR(kept.thickness[t], thickness, 1e-5f) << t;
+      EXPECT_EQ(kept.thickness[t], fresh.thickness[t]) << t;
+      EXPECT_EQ(kept.faces_in[t], fresh.faces_in[t]) << t;
+    }
+  }
+}
+
 TEST(WindingNumber, CountsInsideOnCrackedAndInsideOutPartsAndIgnoresSheets) {
   Mesh mesh = reference::cracked_box({0, 0, 0}, {1, 1, 1});
   reference::append(mesh, reference::inside_out(reference::uv_sphere({3, 0, 0}, 0.5f, 32)));
