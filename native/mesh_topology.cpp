@@ -38,10 +38,6 @@ bool encloses_volume(bool has_boundary, glm::dvec3 vector_area, double area) {
   return area > 0.0 && (!has_boundary || glm::length(vector_area) <= kLargestHole * area);
 }
 
-}  // namespace
-
-namespace {
-
 glm::vec3 lowest_corner(const Mesh& mesh) {
   glm::vec3 lo(std::numeric_limits<float>::max());
   for (const glm::vec3& p : mesh.positions) lo = glm::min(lo, p);

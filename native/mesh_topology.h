@@ -39,7 +39,7 @@ Pieces mesh_pieces(const Mesh& mesh);
 // one triangle alone uses (at its piece's index). A mesh that deforms keeps
 // its triangles and, as skinning and shape keys move them, which vertices
 // meet: its topology is found once and only the thicknesses measured anew
-// (they were three quarters of a deformed mesh's bottom-level rebuild).
+// (finding it was three quarters of a refitted deformed mesh's bottom level).
 struct PieceTopology {
   std::vector<uint32_t> piece;
   std::vector<int8_t> turn;
