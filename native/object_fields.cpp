@@ -58,6 +58,11 @@ constexpr float kNearCopyShare = 5e-4f;
 // as many sizes would otherwise compare each with all the others.
 constexpr size_t kNearCopyCandidates = 32;
 
+// How many near_copies verdicts are kept before they are let go: a
+// deforming mesh brings new digests every frame, and the verdicts of the
+// shapes gone would pile up.
+constexpr size_t kNearCopyVerdicts = 4096;
+
 // How far a near copy's vertices may lie from those of a mesh of bounds lo, hi.
 float near_copy_tolerance(glm::vec3 lo, glm::vec3 hi) {
   const glm::vec3 e = hi - lo;
@@ -377,8 +382,7 @@ bool ObjectFields::near_copies(const GpuScene& scene, uint32_t a, const Bounds& 
   const std::pair<uint64_t, uint64_t> key{digest(scene, a), digest(scene, b)};
   auto it = near_copies_.find(key);
   if (it != near_copies_.end()) return it->second;
-  // (a deforming mesh brings new digests every frame: the verdicts of the shapes gone are let go)
-  if (near_copies_.size() >= 4096) near_copies_.clear();
+  if (near_copies_.size() >= kNearCopyVerdicts) near_copies_.clear();
   return near_copies_[key] = near_copy(scene.scene().meshes[a], scene.scene().meshes[b], tolerance);
 }
 
