@@ -167,4 +167,36 @@ Pieces mesh_pieces(const Mesh& mesh, const PieceTopology& topology) {
 
 Pieces mesh_pieces(const Mesh& mesh) { return mesh_pieces(mesh, piece_topology(mesh)); }
 
+WeldedTriangles weld_by_position(const Mesh& mesh) {
+  struct PositionHash {
+    size_t operator()(const glm::vec3& p) const {
+      // (+ 0: -0 and 0 are one position, and hash as one)
+      return std::hash<float>()(p.x + 0.0f) * 0x9E3779B97F4A7C15ull ^
+             std::hash<float>()(p.y + 0.0f) * 0xC2B2AE3D27D4EB4Full ^ std::hash<float>()(p.z + 0.0f);
+    }
+  };
+  WeldedTriangles welded;
+  constexpr uint32_t kUnused = std::numeric_limits<uint32_t>::max();
+  welded.vertex_of.assign(mesh.positions.size(), kUnused);
+  welded.indices.reserve(mesh.indices.size());
+  std::unordered_map<glm::vec3, uint32_t, PositionHash> at;
+  for (uint32_t v : mesh.indices) {
+    uint32_t& id = welded.vertex_of[v];
+    if (id == kUnused) id = at.emplace(mesh.positions[v], uint32_t(at.size())).first->second;
+    welded.indices.push_back(id);
+  }
+  // (vertices no triangle uses are not part of the surface: each its own, after the rest)
+  for (size_t v = 0; v < mesh.positions.size(); ++v)
+    if (welded.vertex_of[v] == kUnused) welded.vertex_of[v] = uint32_t(at.size() + v);
+  welded.vertex_count = uint32_t(at.size());
+  return welded;
+}
+
+std::vector<glm::vec3> welded_positions(const Mesh& mesh, const WeldedTriangles& welded) {
+  std::vector<glm::vec3> positions(welded.vertex_count);
+  for (size_t v = 0; v < mesh.positions.size() && v < welded.vertex_of.size(); ++v)
+    if (welded.vertex_of[v] < welded.vertex_count) positions[welded.vertex_of[v]] = mesh.positions[v];
+  return positions;
+}
+
 }  // namespace rtsdf

@@ -46,6 +46,22 @@ struct PieceTopology {
   std::vector<uint8_t> has_boundary;
 };
 PieceTopology piece_topology(const Mesh& mesh);
+
+// A mesh's vertices joined where they lie at exactly one position: the
+// surface as its field sees it, whatever split its vertices (sharp edges,
+// UV seams, the per-corner normals an importer brings). Welded vertices are
+// numbered in the order the triangles first use them, so two copies of one
+// part with the same triangles weld alike however their split vertices
+// were ordered or counted. `vertex_of` maps the mesh's vertices to them.
+struct WeldedTriangles {
+  std::vector<uint32_t> vertex_of;
+  std::vector<uint32_t> indices;  // three welded vertices per triangle
+  uint32_t vertex_count = 0;
+};
+WeldedTriangles weld_by_position(const Mesh& mesh);
+// The welded vertices' positions in `mesh` as it is now (a deformed mesh
+// keeps which of its vertices meet: its weld is found once).
+std::vector<glm::vec3> welded_positions(const Mesh& mesh, const WeldedTriangles& welded);
 // mesh_pieces of `mesh` in the shape it has now, with the topology found before.
 Pieces mesh_pieces(const Mesh& mesh, const PieceTopology& topology);
 

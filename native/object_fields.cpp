@@ -2,10 +2,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <optional>
 #include <unordered_map>
 
 #include "error.h"
 #include "mesh_detail.h"
+#include "mesh_topology.h"
 #include "vk/context.h"
 
 namespace rtsdf {
@@ -69,13 +72,62 @@ float near_copy_tolerance(glm::vec3 lo, glm::vec3 hi) {
   return kNearCopyShare * std::max(e.x, std::max(e.y, e.z));
 }
 
-// Whether b has a's triangles and each of its vertices lies within
-// `tolerance` of a's.
-bool near_copy(const Mesh& a, const Mesh& b, float tolerance) {
-  if (a.positions.size() != b.positions.size() || a.indices != b.indices) return false;
-  for (size_t i = 0; i < a.positions.size(); ++i)
-    if (!(glm::distance(a.positions[i], b.positions[i]) <= tolerance)) return false;
-  return true;
+// The root mean square of the vertices' distances from their centroid: the
+// same for a copy however it was turned and moved (within twice the
+// tolerance for a near copy), so most meshes of one topology that are not
+// copies are told apart without comparing their vertices.
+float vertex_spread(const Mesh& mesh) {
+  if (mesh.positions.empty()) return 0.0f;
+  glm::dvec3 sum(0.0);
+  for (const glm::vec3& p : mesh.positions) sum += glm::dvec3(p);
+  const glm::dvec3 centroid = sum / double(mesh.positions.size());
+  double squares = 0.0;
+  for (const glm::vec3& p : mesh.positions) {
+    const glm::dvec3 d = glm::dvec3(p) - centroid;
+    squares += glm::dot(d, d);
+  }
+  return float(std::sqrt(squares / double(mesh.positions.size())));
+}
+
+// Where b lies as a copy of a: the rigid motion (a turn and a shift, no
+// mirror or scale) taking each of a's vertices to within `tolerance` of
+// b's, or none. The identity for a copy in place. Importers that bake
+// transforms into the vertices (OBJ has no instances) give each copy of a
+// part its own turned and moved vertices; it shares a's field, placed by
+// this motion.
+std::optional<glm::mat4> copy_placement(const Mesh& a, const Mesh& b, float tolerance) {
+  if (a.positions.size() != b.positions.size() || a.indices != b.indices || a.positions.empty()) return std::nullopt;
+  const std::vector<glm::vec3>& p = a.positions;
+  const std::vector<glm::vec3>& q = b.positions;
+  auto within = [&](const glm::mat3& turn, glm::vec3 shift) {
+    for (size_t i = 0; i < p.size(); ++i)
+      if (!(glm::distance(turn * p[i] + shift, q[i]) <= tolerance)) return false;
+    return true;
+  };
+  if (within(glm::mat3(1.0f), glm::vec3(0.0f))) return glm::mat4(1.0f);
+  // Frames on three vertices far apart (the first, the farthest from it,
+  // the farthest from the line through both), the same three in each.
+  size_t far = 0, off = 0;
+  for (size_t i = 0; i < p.size(); ++i)
+    if (glm::distance(p[i], p[0]) > glm::distance(p[far], p[0])) far = i;
+  const glm::vec3 axis = p[far] - p[0];
+  auto off_line = [&](size_t i) { return glm::length(glm::cross(p[i] - p[0], axis)); };
+  for (size_t i = 0; i < p.size(); ++i)
+    if (off_line(i) > off_line(off)) off = i;
+  // (too close or too straight to fix a turn within the tolerance: no copy)
+  const float length = glm::length(axis);
+  if (!(length > 100.0f * tolerance) || !(off_line(off) / length > 100.0f * tolerance)) return std::nullopt;
+  auto frame = [&](const std::vector<glm::vec3>& v) {
+    const glm::vec3 u = glm::normalize(v[far] - v[0]);
+    const glm::vec3 w = glm::normalize(glm::cross(u, v[off] - v[0]));
+    return glm::mat3(u, glm::cross(w, u), w);
+  };
+  const glm::mat3 turn = frame(q) * glm::transpose(frame(p));
+  const glm::vec3 shift = q[0] - turn * p[0];
+  if (!within(turn, shift)) return std::nullopt;
+  glm::mat4 placement(turn);
+  placement[3] = glm::vec4(shift, 1.0f);
+  return placement;
 }
 
 bool has_volume_to_fit(const Bounds& bounds) {
@@ -190,25 +242,35 @@ void ObjectFields::sync(GpuScene& scene, const ObjectFieldSettings& settings, Ma
   // arrays compared on every sync cost a frame of a playback as much as
   // reading every copy's vertices).
   std::vector<size_t> twin(meshes.size());  // per mesh: the index (in meshes) of the mesh whose field it reads
+  // Per mesh: where it lies as a copy of its twin (the identity for the twin itself and copies in place).
+  std::vector<glm::mat4> placed_as(meshes.size(), glm::mat4(1.0f));
   {
     std::unordered_map<uint64_t, size_t> firsts;  // digest -> the first mesh of that geometry
     for (size_t k = 0; k < meshes.size(); ++k) twin[k] = firsts.try_emplace(digest(scene, meshes[k]), k).first->second;
     // Near copies share too: generators and importers give copies of one
     // part whose vertices differ by rounding (Bolt Factory's nuts, made twice
-    // with the same options: 0.005 mm apart on 21 mm, a field each).
-    std::unordered_map<uint64_t, std::vector<size_t>> shapes;  // topology -> the meshes with a field of their own so far
+    // with the same options: 0.005 mm apart on 21 mm, a field each), or
+    // turned and moved (copy_placement).
+    // Compared as stored (copies whose vertices were split alike), then
+    // welded (copies whose importer split them apart differently).
+    // Per form: topology -> the meshes with a field of their own so far.
+    std::unordered_map<uint64_t, std::vector<size_t>> shapes[2];
     for (size_t k = 0; k < meshes.size(); ++k) {
       if (twin[k] != k) {
-        twin[k] = twin[twin[k]];  // (the first of its geometry may have joined a near copy)
+        // (the first of its geometry may have joined a near copy)
+        placed_as[k] = placed_as[twin[k]];
+        twin[k] = twin[twin[k]];
         continue;
       }
-      std::vector<size_t>& alike = shapes[topology(scene, meshes[k])];
-      for (size_t n = alike.size(); n > 0 && n + kNearCopyCandidates > alike.size(); --n)
-        if (near_copies(scene, meshes[alike[n - 1]], bounds[alike[n - 1]], meshes[k], bounds[k])) {
-          twin[k] = alike[n - 1];
-          break;
-        }
-      if (twin[k] == k) alike.push_back(k);
+      for (const Form form : {Form::Stored, Form::Welded}) {
+        const std::vector<size_t>& alike = shapes[int(form)][topology(scene, meshes[k], form)];
+        for (size_t n = alike.size(); twin[k] == k && n > 0 && n + kNearCopyCandidates > alike.size(); --n)
+          if (const std::optional<glm::mat4> placement =
+                  copy_of(scene, meshes[alike[n - 1]], bounds[alike[n - 1]], meshes[k], form))
+            twin[k] = alike[n - 1], placed_as[k] = *placement;
+      }
+      if (twin[k] == k)
+        for (const Form form : {Form::Stored, Form::Welded}) shapes[int(form)][topology(scene, meshes[k], form)].push_back(k);
     }
   }
   std::vector<uint32_t> owners;  // the meshes with a field, in mesh order
@@ -216,7 +278,8 @@ void ObjectFields::sync(GpuScene& scene, const ObjectFieldSettings& settings, Ma
   std::vector<size_t> field_index(meshes.size());  // per mesh: its field in fields_
   readers_.clear();
   for (size_t k = 0; k < meshes.size(); ++k) {
-    readers_[meshes[k]] = meshes[twin[k]];
+    // (a copy turned or moved reads its twin's field in the twin's space, not its own)
+    if (placed_as[k] == glm::mat4(1.0f)) readers_[meshes[k]] = meshes[twin[k]];
     if (twin[k] != k) {
       field_index[k] = field_index[twin[k]];
       continue;
@@ -304,10 +367,12 @@ void ObjectFields::sync(GpuScene& scene, const ObjectFieldSettings& settings, Ma
   for (uint32_t i : scene.shadow_casters()) {
     auto it = std::lower_bound(meshes.begin(), meshes.end(), instances[i].mesh);
     if (it == meshes.end() || *it != instances[i].mesh) continue;
-    const PackedField& field = *fields_[field_index[size_t(it - meshes.begin())]].packed;
-    placements_.push_back({&field, instances[i].object_to_world});
-    const glm::vec2 stretch = singular_value_range(glm::mat3(instances[i].object_to_world));
-    if (stretch.x > kDegenerateScale * stretch.y) instance_voxels_[i] = MarchFields::world_voxel(field, instances[i].object_to_world);
+    const size_t index = size_t(it - meshes.begin());
+    const PackedField& field = *fields_[field_index[index]].packed;
+    const glm::mat4 field_to_world = instances[i].object_to_world * placed_as[index];
+    placements_.push_back({&field, field_to_world});
+    const glm::vec2 stretch = singular_value_range(glm::mat3(field_to_world));
+    if (stretch.x > kDegenerateScale * stretch.y) instance_voxels_[i] = MarchFields::world_voxel(field, field_to_world);
   }
   march.place(placements_);
   for (Field& f : fields_) f.placed_generation = f.packed->generation();
@@ -361,29 +426,43 @@ uint64_t ObjectFields::digest(const GpuScene& scene, uint32_t mesh) {
   auto it = digests_.find(mesh);
   if (it == digests_.end() || it->second.version != version) {
     const Mesh& geometry = scene.scene().meshes[mesh];
-    const uint64_t topology = topology_digest(geometry);
-    it = digests_.insert_or_assign(mesh, Digest{version, geometry_digest(geometry, topology), topology}).first;
+    const uint64_t stored_topology = topology_digest(geometry);
+    const WeldedTriangles weld = weld_by_position(geometry);
+    auto welded = std::make_shared<Mesh>();
+    welded->positions = welded_positions(geometry, weld);
+    welded->indices = weld.indices;
+    Digest d{version, geometry_digest(geometry, stored_topology)};
+    d.topology[int(Form::Stored)] = stored_topology;
+    d.topology[int(Form::Welded)] = topology_digest(*welded);
+    d.spread[int(Form::Stored)] = vertex_spread(geometry);
+    d.spread[int(Form::Welded)] = vertex_spread(*welded);
+    d.welded = welded;
+    it = digests_.insert_or_assign(mesh, std::move(d)).first;
   }
   return it->second.digest;
 }
 
-uint64_t ObjectFields::topology(const GpuScene& scene, uint32_t mesh) {
+uint64_t ObjectFields::topology(const GpuScene& scene, uint32_t mesh, Form form) {
   digest(scene, mesh);
-  return digests_[mesh].topology;
+  return digests_[mesh].topology[int(form)];
 }
 
-bool ObjectFields::near_copies(const GpuScene& scene, uint32_t a, const Bounds& first, uint32_t b,
-                               const Bounds& second) {
-  // (bounds further apart than the tolerance rule it out without the vertices)
-  const float tolerance = near_copy_tolerance(first.lo, first.hi);
-  if (!(glm::all(glm::lessThanEqual(glm::abs(first.lo - second.lo), glm::vec3(tolerance))) &&
-        glm::all(glm::lessThanEqual(glm::abs(first.hi - second.hi), glm::vec3(tolerance)))))
-    return false;
-  const std::pair<uint64_t, uint64_t> key{digest(scene, a), digest(scene, b)};
-  auto it = near_copies_.find(key);
-  if (it != near_copies_.end()) return it->second;
-  if (near_copies_.size() >= kNearCopyVerdicts) near_copies_.clear();
-  return near_copies_[key] = near_copy(scene.scene().meshes[a], scene.scene().meshes[b], tolerance);
+std::optional<glm::mat4> ObjectFields::copy_of(const GpuScene& scene, uint32_t a, const Bounds& bounds, uint32_t b,
+                                               Form form) {
+  // (spreads further apart than twice the tolerance rule it out without the vertices)
+  const float tolerance = near_copy_tolerance(bounds.lo, bounds.hi);
+  digest(scene, a);
+  digest(scene, b);
+  const Digest &first = digests_[a], &second = digests_[b];
+  if (!(std::abs(first.spread[int(form)] - second.spread[int(form)]) <= 2.0f * tolerance)) return std::nullopt;
+  const std::tuple<uint64_t, uint64_t, Form> key{first.digest, second.digest, form};
+  auto it = copies_.find(key);
+  if (it != copies_.end()) return it->second;
+  if (copies_.size() >= kNearCopyVerdicts) copies_.clear();
+  const Mesh& stored_a = scene.scene().meshes[a];
+  const Mesh& stored_b = scene.scene().meshes[b];
+  return copies_[key] = form == Form::Welded ? copy_placement(*first.welded, *second.welded, tolerance)
+                                             : copy_placement(stored_a, stored_b, tolerance);
 }
 
 void ObjectFields::pack(const std::vector<Field*>& fields) {

@@ -22,6 +22,8 @@
 #include <cstdint>
 #include <map>
 #include <memory>
+#include <optional>
+#include <tuple>
 #include <vector>
 
 #include "coarse_sdf.h"
@@ -142,18 +144,24 @@ class ObjectFields {
   // Packs the fields for the march, with more room for those that need it.
   void pack(const std::vector<Field*>& fields);
   void update_memory_stats();
-  // A mesh's geometry_digest (and topology_digest), read again only when its geometry changed.
+  // A mesh's geometry_digest (and what copy_of compares), read again only when its geometry changed.
   uint64_t digest(const GpuScene& scene, uint32_t mesh);
-  uint64_t topology(const GpuScene& scene, uint32_t mesh);
-  // Whether mesh b is a near copy of mesh a (near_copy; their bounds given),
-  // remembered by their digests.
-  bool near_copies(const GpuScene& scene, uint32_t a, const Bounds& first, uint32_t b, const Bounds& second);
+  // Copies are compared in one of two forms: the triangles as stored, or
+  // welded (weld_by_position: an importer's split vertices need not come
+  // alike in two copies of a part, turned, their normals rounded apart).
+  enum class Form { Stored, Welded };
+  uint64_t topology(const GpuScene& scene, uint32_t mesh, Form form);
+  // Where mesh b lies as a near copy of mesh a (copy_placement, in that
+  // form; a's bounds given), or none; remembered by their digests.
+  std::optional<glm::mat4> copy_of(const GpuScene& scene, uint32_t a, const Bounds& bounds, uint32_t b, Form form);
   // The mesh's feature size, measured once per set of triangles (features_).
   float feature_size(GpuScene& scene, uint32_t mesh);
   struct Digest {
     uint64_t version = 0;  // the mesh's version it was taken from
     uint64_t digest = 0;
-    uint64_t topology = 0;
+    uint64_t topology[2] = {};  // topology_digest, per Form
+    float spread[2] = {};       // vertex_spread, per Form
+    std::shared_ptr<const Mesh> welded;  // the welded form's positions and triangles
   };
 
   const vk::Context& context_;
@@ -166,7 +174,7 @@ class ObjectFields {
   std::vector<Field> fields_;  // by mesh index (of the first mesh of each geometry), in the march's layout order
   std::map<uint32_t, Digest> digests_;  // per caster mesh
   std::map<uint32_t, uint32_t> readers_;  // per caster mesh with a field: the mesh whose field it reads (its own or a copy's)
-  std::map<std::pair<uint64_t, uint64_t>, bool> near_copies_;  // near_copies' verdicts, by the two digests
+  std::map<std::tuple<uint64_t, uint64_t, Form>, std::optional<glm::mat4>> copies_;  // copy_of's verdicts, by the two digests
   // A mesh's feature size (mesh_detail.h), kept while its triangles are the
   // same ones: a deforming mesh keeps its first shape's, and so its grid.
   struct Feature {

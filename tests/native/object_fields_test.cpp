@@ -208,6 +208,65 @@ TEST_F(ObjectFieldsTest, MeshesOfOneGeometryShareOneField) {
   EXPECT_EQ(renderer.stats().fields_regenerated, 1) << "and only it is built";
 }
 
+// Importers that bake transforms into the vertices (OBJ has no instances)
+// give each copy of a part its own turned and moved vertices: such a copy
+// shares the part's field, placed where the copy lies. A mirrored or
+// scaled copy is another shape, with a field of its own.
+TEST_F(ObjectFieldsTest, TurnedAndMovedCopiesShareOneField) {
+  const Mesh part = reference::box({-0.6f, -0.2f, -0.3f}, {0.6f, 0.2f, 0.3f});  // (long: a wrong turn shows)
+  const glm::mat4 first = glm::translate(glm::mat4(1.0f), {-1.5f, -0.5f, 1.0f});
+  const glm::mat4 turned = glm::translate(glm::mat4(1.0f), {1.0f, 0.8f, 0.9f}) *
+                           glm::rotate(glm::mat4(1.0f), glm::radians(40.0f), glm::normalize(glm::vec3(1, 2, 3)));
+  auto baked = [&](const glm::mat4& transform) {
+    Mesh copy = part;
+    for (glm::vec3& p : copy.positions) p = glm::vec3(transform * glm::vec4(p, 1.0f));
+    return copy;
+  };
+  Scene instanced;
+  instanced.meshes = {part, reference::sheet({-6, -6}, {6, 6}, 0.0f)};
+  instanced.instances = {{0, first}, {0, turned}, {1, glm::mat4(1.0f)}};
+  Scene imported;
+  imported.meshes = {part, baked(turned), reference::sheet({-6, -6}, {6, 6}, 0.0f)};
+  imported.instances = {{0, first}, {1, glm::mat4(1.0f)}, {2, glm::mat4(1.0f)}};
+
+  const RenderOutput one_mesh = quick_render(instanced, 3.0f, 96);
+  const RenderOutput copies = quick_render(imported, 3.0f, 96);
+  EXPECT_EQ(one_mesh.stats.fields, 1);
+  EXPECT_EQ(copies.stats.fields, 1) << "the baked copy shares the part's field";
+  float worst = 0.0f, shadowed = 0.0f;
+  for (size_t i = 0; i < copies.shadow.size(); ++i) {
+    worst = std::max(worst, std::abs(copies.shadow[i] - one_mesh.shadow[i]));
+    shadowed += one_mesh.shadow[i] < 0.5f ? 1.0f : 0.0f;
+  }
+  EXPECT_GT(shadowed, 100.0f) << "both parts cast shadows in view";
+  EXPECT_LT(worst, 1e-4) << "the copy shades as the part placed where it lies";
+
+  // The copy's vertices split otherwise (each triangle's own, as STL stores
+  // them; an importer's per-corner normals split turned copies apart
+  // differently): compared welded, it is still the part.
+  Mesh soup = baked(turned);
+  soup.positions.clear();
+  soup.indices.clear();
+  soup.normals.clear();
+  for (uint32_t v : part.indices) {
+    soup.indices.push_back(uint32_t(soup.positions.size()));
+    soup.positions.push_back(glm::vec3(turned * glm::vec4(part.positions[v], 1.0f)));
+  }
+  ASSERT_NE(soup.positions.size(), part.positions.size());
+  imported.meshes[1] = soup;
+  const RenderOutput soup_copies = quick_render(imported, 3.0f, 96);
+  EXPECT_EQ(soup_copies.stats.fields, 1) << "the copy split otherwise shares the part's field";
+  worst = 0.0f;
+  for (size_t i = 0; i < soup_copies.shadow.size(); ++i)
+    worst = std::max(worst, std::abs(soup_copies.shadow[i] - one_mesh.shadow[i]));
+  EXPECT_LT(worst, 1e-4) << "and shades as the part placed where it lies";
+
+  imported.meshes[1] = baked(turned * glm::scale(glm::mat4(1.0f), {-1.0f, 1.0f, 1.0f}));  // (mirrored)
+  EXPECT_EQ(quick_render(imported, 3.0f, 96).stats.fields, 2);
+  imported.meshes[1] = baked(turned * glm::scale(glm::mat4(1.0f), glm::vec3(1.01f)));  // (1% larger)
+  EXPECT_EQ(quick_render(imported, 3.0f, 96).stats.fields, 2);
+}
+
 // sphere_box_ground() in a viewport-like render from above, run until its
 // fields are still.
 struct StillViewport {
