@@ -306,26 +306,38 @@ void ObjectFields::sync(GpuScene& scene, const ObjectFieldSettings& settings, Ma
                                 settings.fine_resolution);
   }
   const double budget = settings.budget_mb * 1024.0 * 1024.0;
+  const double surface_budget = settings.surface_voxel_budget > 0.0 ? settings.surface_voxel_budget : kSurfaceVoxelBudget;
   float scale = 1.0f;
+  stats_.surface_limited = false;
   auto resolutions = [&](float s) {
     const int coarse = std::max(8, int(std::lround(settings.coarse_resolution * s)));
     const int fine = std::min(int(gpu::kMaxGridResolution), int(std::lround(settings.fine_resolution * s)));
     return std::pair{coarse, std::max(coarse, fine)};
   };
   for (int attempt = 0;; ++attempt) {
-    double total = 0.0;
+    double total = 0.0, surface = 0.0;
     int coarse = 0;
     for (size_t k = 0; k < owners.size(); ++k) {
       const auto [c, f] = resolutions(scale * details[k]);
       total += double(field_bytes(owner_bounds[k], c, f));
       coarse = std::max(coarse, c);
+      const glm::vec3 e = owner_bounds[k].extent();
+      const double voxel = double(std::max(e.x, std::max(e.y, e.z))) / double(f);
+      if (voxel > 0.0) surface += surface_area(scene, owners[k]) / (voxel * voxel);
     }
-    if (total <= budget || owners.empty()) break;
+    if (owners.empty() || coarse == 8) {
+      if (total <= budget || owners.empty()) break;  // (the surface budget is a cost, not a limit: at the coarsest, go on)
+    } else if (total <= budget && surface <= surface_budget) {
+      break;
+    }
     if (coarse == 8 || attempt == 32)
       throw Error("the distance fields of " + std::to_string(owners.size()) + " meshes need " +
                   std::to_string(int(total / (1 << 20))) + " MiB even at the coarsest resolution, over the budget of " +
                   std::to_string(int(settings.budget_mb)) + " MiB");
-    scale *= std::min(0.95f, float(std::cbrt(budget / total)));
+    // (memory goes with the cube of the resolution, the surface voxels with its square)
+    const double by_memory = std::cbrt(budget / total), by_surface = std::sqrt(surface_budget / surface);
+    stats_.surface_limited = by_surface < by_memory;
+    scale *= std::min(0.95f, float(std::min(by_memory, by_surface)));
   }
   stats_.resolution_scale = scale;
 
@@ -437,9 +449,19 @@ uint64_t ObjectFields::digest(const GpuScene& scene, uint32_t mesh) {
     d.spread[int(Form::Stored)] = vertex_spread(geometry);
     d.spread[int(Form::Welded)] = vertex_spread(*welded);
     d.welded = welded;
+    for (size_t t = 0; t < geometry.triangle_count(); ++t) {
+      const glm::vec3 a = geometry.positions[geometry.indices[3 * t]];
+      d.area += 0.5 * double(glm::length(glm::cross(geometry.positions[geometry.indices[3 * t + 1]] - a,
+                                                     geometry.positions[geometry.indices[3 * t + 2]] - a)));
+    }
     it = digests_.insert_or_assign(mesh, std::move(d)).first;
   }
   return it->second.digest;
+}
+
+double ObjectFields::surface_area(const GpuScene& scene, uint32_t mesh) {
+  digest(scene, mesh);
+  return digests_[mesh].area;
 }
 
 uint64_t ObjectFields::topology(const GpuScene& scene, uint32_t mesh, Form form) {

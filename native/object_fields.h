@@ -50,7 +50,22 @@ struct ObjectFieldSettings {
   // and the packed fields), in MiB: resolutions are lowered alike until the
   // fields fit.
   double budget_mb = 1024.0;
+  // The fields' surfaces together, in voxels (each field's surface area
+  // over its fine voxel's face, summed): resolutions are lowered alike
+  // until they fit. A field's trace works on the texels near its surface,
+  // so its cost follows this. A model in many parts (a CAD assembly
+  // imported as its parts) gives each part a field at its own size's
+  // resolution, and together they held many times the surface voxels of
+  // the model's field as one mesh (kSurfaceVoxelBudget).
+  double surface_voxel_budget = 0.0;  // 0: kSurfaceVoxelBudget
 };
+
+// The default surface_voxel_budget. The 2CylinderEngine (assimp-testmodels'
+// glTF, 110k triangles) imported as its 67 parts (29 meshes): 1.29 M surface
+// voxels at the add-on's Fine 128, its F12 41.5 s of fine trace against 5.0
+// s for the same model as one mesh (0.11 M), and 4.7x EEVEE's whole F12.
+// The bundled samples hold 0.009 M (the character) to 0.29 M (large_small).
+constexpr double kSurfaceVoxelBudget = 400000.0;
 
 // One mesh's field, as the stats report it.
 struct FieldMemory {
@@ -75,7 +90,8 @@ struct ObjectFieldStats {
   uint64_t stored_bricks = 0;   // bricks of fine texels the packed fields hold
   uint64_t brick_count = 0;     // bricks their fine grids span
   std::vector<FieldMemory> per_field;  // in mesh order
-  float resolution_scale = 1;   // below 1: resolutions lowered to fit the budget
+  float resolution_scale = 1;   // below 1: resolutions lowered to fit the budgets
+  bool surface_limited = false;  // ... and the surface voxel budget was the one that lowered them
   int skipped_degenerate = 0;   // instances left out: a scale flattens them
 };
 
@@ -146,6 +162,7 @@ class ObjectFields {
   void update_memory_stats();
   // A mesh's geometry_digest (and what copy_of compares), read again only when its geometry changed.
   uint64_t digest(const GpuScene& scene, uint32_t mesh);
+  double surface_area(const GpuScene& scene, uint32_t mesh);
   // Copies are compared in one of two forms: the triangles as stored, or
   // welded (weld_by_position: an importer's split vertices need not come
   // alike in two copies of a part, turned, their normals rounded apart).
@@ -162,6 +179,7 @@ class ObjectFields {
     uint64_t topology[2] = {};  // topology_digest, per Form
     float spread[2] = {};       // vertex_spread, per Form
     std::shared_ptr<const Mesh> welded;  // the welded form's positions and triangles
+    double area = 0.0;  // the mesh's surface area
   };
 
   const vk::Context& context_;

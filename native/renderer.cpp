@@ -357,6 +357,7 @@ void Renderer::rebuild_sdfs(GpuScene& scene, const RenderSettings& settings) {
     stats_.fields_reused = objects.reused;
     update_field_memory_stats(method);
     stats_.resolution_scale = objects.resolution_scale;
+    stats_.surface_limited = objects.surface_limited;
     stats_.skipped_degenerate = objects.skipped_degenerate;
     return;
   }

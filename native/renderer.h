@@ -192,6 +192,7 @@ struct RenderStats {
   uint64_t brick_count = 0;     // bricks their fine grids span
   std::vector<FieldMemory> per_field;  // rtsdf: each mesh's field
   float resolution_scale = 1;   // rtsdf: below 1, resolutions lowered to fit field_budget_mb
+  bool surface_limited = false;  // ... to fit the fields' surface voxel budget (ObjectFieldSettings), not the memory
   int skipped_degenerate = 0;   // rtsdf: instances a scale flattens to nothing, left out of the fields
   // The share of the image the last frame drew (the tiles its temporal keep
   // pass tested; its G-buffer drew a rectangle around them): below 1 in a

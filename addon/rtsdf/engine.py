@@ -258,7 +258,11 @@ def field_lines(stats, mesh_names):
 def warn_about_fields(engine, stats):
     """Reports what the fields coarsened, once per render (instances they
     leave out, scaled flat, sync names before the render)."""
-    if stats["resolution_scale"] < 1.0:
+    if stats["resolution_scale"] < 1.0 and stats.get("resolution_limited_by") == "surface":
+        # (many meshes' fields together: a model imported as its parts)
+        print(f"RTSDF: field resolutions lowered to {stats['resolution_scale']:.0%}: the fields of "
+              f"{stats['fields']} meshes hold more surface detail than a scene's fields may trace")
+    elif stats["resolution_scale"] < 1.0:
         engine.report({"WARNING"}, f"RTSDF: field resolutions lowered to {stats['resolution_scale']:.0%} to fit "
                                    "the field memory budget")
 

@@ -253,6 +253,7 @@ py::dict stats_of(const rtsdf::RenderStats& s) {
                               py::arg("voxel_size") = f.voxel_size, py::arg("detail") = f.detail));
   stats["per_field"] = per_field;
   stats["resolution_scale"] = s.resolution_scale;
+  stats["resolution_limited_by"] = s.resolution_scale < 1.0f ? (s.surface_limited ? "surface" : "memory") : "";
   stats["skipped_degenerate"] = s.skipped_degenerate;
   stats["drawn_share"] = s.drawn_share;
   stats["short_history_share"] = s.short_history_share;

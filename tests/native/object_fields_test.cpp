@@ -520,6 +520,45 @@ TEST_F(ObjectFieldsTest, OverBudgetFieldsAreCoarsenedNotRefused) {
   EXPECT_THROW(renderer.render(gpu_scene, top_view(3.0f), {overhead_sun()}, glm::vec3(0.1f), 64, 64, settings), Error);
 }
 
+// A model in parts (a CAD assembly imported as its parts) gives each part a
+// field at its own size's resolution: together they would hold many times
+// the surface voxels of the model's field as one mesh, and cost as much more
+// to trace. Their resolutions are lowered alike to the surface voxel
+// budget, and the parts still shade as the model in one piece does.
+TEST_F(ObjectFieldsTest, AModelInManyPartsIsTracedWithinTheSurfaceBudget) {
+  Scene parts, one_piece;
+  Mesh merged;
+  for (int i = 0; i < 8; ++i) {  // (boxes side by side, each a little taller: eight meshes)
+    const glm::vec3 lo(-0.6f + 0.3f * float(i % 4), -0.3f + 0.3f * float(i / 4), 1.0f);
+    const Mesh part = reference::box(lo, lo + glm::vec3(0.3f, 0.3f, 0.3f + 0.02f * float(i)));
+    parts.meshes.push_back(part);
+    parts.instances.push_back({uint32_t(i), glm::mat4(1.0f)});
+    for (uint32_t v : part.indices) merged.indices.push_back(v + uint32_t(merged.positions.size()));
+    merged.positions.insert(merged.positions.end(), part.positions.begin(), part.positions.end());
+  }
+  one_piece.meshes = {merged};
+  one_piece.instances = {{0, glm::mat4(1.0f)}};
+  for (Scene* scene : {&parts, &one_piece}) {
+    scene->meshes.push_back(reference::sheet({-6, -6}, {6, 6}, 0.0f));
+    scene->instances.push_back({uint32_t(scene->meshes.size() - 1), glm::mat4(1.0f)});
+  }
+  const RenderOutput in_parts = quick_render(parts, 1.5f, 96);
+  const RenderOutput whole = quick_render(one_piece, 1.5f, 96);
+  EXPECT_EQ(in_parts.stats.fields, 8);
+  EXPECT_LT(in_parts.stats.resolution_scale, 0.9f) << "eight boxes at a box's resolution each are over the budget";
+  EXPECT_TRUE(in_parts.stats.surface_limited);
+  EXPECT_FLOAT_EQ(whole.stats.resolution_scale, 1.0f) << "the same boxes as one mesh are within it";
+  int shadowed = 0, apart = 0;
+  for (size_t i = 0; i < whole.shadow.size(); ++i) {
+    shadowed += whole.shadow[i] < 0.5f;
+    apart += std::abs(in_parts.shadow[i] - whole.shadow[i]) > 0.5f;
+  }
+  std::printf("parts at %.0f%% of their resolution; %d of %d shadowed pixels apart\n",
+              100.0 * in_parts.stats.resolution_scale, apart, shadowed);
+  EXPECT_GT(shadowed, 300) << "the boxes' shadow is in view";
+  EXPECT_LT(apart, shadowed / 50) << "the parts shade as the model in one piece";
+}
+
 TEST_F(ObjectFieldsTest, FlattenedInstanceIsCountedAndTheRestRenders) {
   Scene scene = sphere_box_ground();
   scene.instances[0].object_to_world = glm::scale(scene.instances[0].object_to_world, {1.0f, 1.0f, 0.0f});
