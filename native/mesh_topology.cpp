@@ -192,10 +192,17 @@ WeldedTriangles weld_by_position(const Mesh& mesh) {
   return welded;
 }
 
-std::vector<glm::vec3> welded_positions(const Mesh& mesh, const WeldedTriangles& welded) {
+std::optional<std::vector<glm::vec3>> welded_positions(const Mesh& mesh, const WeldedTriangles& welded) {
+  if (welded.vertex_of.size() != mesh.positions.size()) return std::nullopt;
   std::vector<glm::vec3> positions(welded.vertex_count);
-  for (size_t v = 0; v < mesh.positions.size() && v < welded.vertex_of.size(); ++v)
-    if (welded.vertex_of[v] < welded.vertex_count) positions[welded.vertex_of[v]] = mesh.positions[v];
+  std::vector<uint8_t> placed(welded.vertex_count, 0);
+  for (size_t v = 0; v < mesh.positions.size(); ++v) {
+    const uint32_t w = welded.vertex_of[v];
+    if (w >= welded.vertex_count) continue;
+    if (placed[w] && !(positions[w] == mesh.positions[v])) return std::nullopt;
+    positions[w] = mesh.positions[v];
+    placed[w] = 1;
+  }
   return positions;
 }
 

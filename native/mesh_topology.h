@@ -6,6 +6,7 @@
 // at all, so shadow marches through it never see a negative value. Both are
 // better read as thin slabs (see shaders/fine_trace.comp).
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include "scene.h"
@@ -59,9 +60,11 @@ struct WeldedTriangles {
   uint32_t vertex_count = 0;
 };
 WeldedTriangles weld_by_position(const Mesh& mesh);
-// The welded vertices' positions in `mesh` as it is now (a deformed mesh
-// keeps which of its vertices meet: its weld is found once).
-std::vector<glm::vec3> welded_positions(const Mesh& mesh, const WeldedTriangles& welded);
+// The welded vertices' positions in `mesh` as it is now, from a weld found
+// for it before (a deformed mesh keeps its triangles, and skinning and shape
+// keys move the vertices that meet alike): none where the vertices joined
+// no longer meet, and the weld is to be found again.
+std::optional<std::vector<glm::vec3>> welded_positions(const Mesh& mesh, const WeldedTriangles& welded);
 // mesh_pieces of `mesh` in the shape it has now, with the topology found before.
 Pieces mesh_pieces(const Mesh& mesh, const PieceTopology& topology);
 

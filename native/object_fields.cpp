@@ -439,13 +439,24 @@ uint64_t ObjectFields::digest(const GpuScene& scene, uint32_t mesh) {
   if (it == digests_.end() || it->second.version != version) {
     const Mesh& geometry = scene.scene().meshes[mesh];
     const uint64_t stored_topology = topology_digest(geometry);
-    const WeldedTriangles weld = weld_by_position(geometry);
-    auto welded = std::make_shared<Mesh>();
-    welded->positions = welded_positions(geometry, weld);
-    welded->indices = weld.indices;
     Digest d{version, geometry_digest(geometry, stored_topology)};
     d.topology[int(Form::Stored)] = stored_topology;
-    d.topology[int(Form::Welded)] = topology_digest(*welded);
+    // The weld is kept while the triangles are the same ones and the
+    // vertices it joined still meet (a deforming mesh's, every frame).
+    auto welded = std::make_shared<Mesh>();
+    std::optional<std::vector<glm::vec3>> positions;
+    if (it != digests_.end() && it->second.topology[int(Form::Stored)] == stored_topology && it->second.weld) {
+      positions = welded_positions(geometry, *it->second.weld);
+      d.weld = it->second.weld;
+      d.topology[int(Form::Welded)] = it->second.topology[int(Form::Welded)];
+    }
+    if (!positions) {
+      d.weld = std::make_shared<const WeldedTriangles>(weld_by_position(geometry));
+      positions = welded_positions(geometry, *d.weld);
+    }
+    welded->positions = std::move(*positions);
+    welded->indices = d.weld->indices;
+    if (d.weld != (it != digests_.end() ? it->second.weld : nullptr)) d.topology[int(Form::Welded)] = topology_digest(*welded);
     d.spread[int(Form::Stored)] = vertex_spread(geometry);
     d.spread[int(Form::Welded)] = vertex_spread(*welded);
     d.welded = welded;

@@ -68,6 +68,27 @@ TEST(MeshPieces, ADeformedMeshKeepsItsTopology) {
   }
 }
 
+// Two copies of a box whose vertices are split differently (one shares its
+// corners, the other is a triangle soup in another vertex order, as STL and
+// per-corner normals bring them) weld to the same triangles.
+TEST(MeshPieces, CopiesSplitDifferentlyWeldAlike) {
+  const Mesh box = reference::box({-1, -2, -3}, {1, 2, 3});
+  Mesh soup;
+  for (size_t c = box.indices.size(); c-- > 0;) soup.positions.push_back(box.positions[box.indices[c]]);
+  for (size_t c = 0; c < box.indices.size(); ++c) soup.indices.push_back(uint32_t(box.indices.size() - 1 - c));
+  const WeldedTriangles a = weld_by_position(box), b = weld_by_position(soup);
+  EXPECT_EQ(a.vertex_count, 8u);
+  EXPECT_EQ(b.vertex_count, 8u);
+  EXPECT_EQ(a.indices, b.indices);
+  ASSERT_TRUE(welded_positions(soup, b).has_value());
+  EXPECT_EQ(*welded_positions(soup, b), *welded_positions(box, a));
+  // Moved alike, the weld still holds; one split corner moved off its twins, it does not.
+  for (glm::vec3& p : soup.positions) p *= 1.5f;
+  EXPECT_TRUE(welded_positions(soup, b).has_value());
+  soup.positions[0].x += 0.01f;
+  EXPECT_FALSE(welded_positions(soup, b).has_value());
+}
+
 TEST(WindingNumber, CountsInsideOnCrackedAndInsideOutPartsAndIgnoresSheets) {
   Mesh mesh = reference::cracked_box({0, 0, 0}, {1, 1, 1});
   reference::append(mesh, reference::inside_out(reference::uv_sphere({3, 0, 0}, 0.5f, 32)));
