@@ -25,11 +25,13 @@ bool FieldKey::operator==(const FieldKey& other) const {
          fine.trace_everywhere == other.fine.trace_everywhere && fine.skip_converged == other.fine.skip_converged;
 }
 
-uint64_t topology_digest(const Mesh& mesh) {
-  const uint64_t counts[2] = {mesh.positions.size(), mesh.indices.size()};
+uint64_t topology_digest(size_t vertex_count, const std::vector<uint32_t>& indices) {
+  const uint64_t counts[2] = {vertex_count, indices.size()};
   const uint64_t hash = fnv1a(counts, sizeof(counts), 0xcbf29ce484222325ull);
-  return fnv1a(mesh.indices.data(), mesh.indices.size() * sizeof(uint32_t), hash);
+  return fnv1a(indices.data(), indices.size() * sizeof(uint32_t), hash);
 }
+
+uint64_t topology_digest(const Mesh& mesh) { return topology_digest(mesh.positions.size(), mesh.indices); }
 
 uint64_t geometry_digest(const Mesh& mesh, uint64_t topology) {
   return fnv1a(mesh.positions.data(), mesh.positions.size() * sizeof(glm::vec3), topology);

@@ -36,6 +36,8 @@ struct FieldKey {
 // vertices): meshes that share it may be copies whose vertices differ by
 // rounding (near_copy).
 uint64_t topology_digest(const Mesh& mesh);
+// ... of `vertex_count` vertices joined by `indices` (three per triangle).
+uint64_t topology_digest(size_t vertex_count, const std::vector<uint32_t>& indices);
 // A digest of its positions and triangles, from its topology_digest (its
 // name and normals do not shape its field).
 uint64_t geometry_digest(const Mesh& mesh, uint64_t topology);

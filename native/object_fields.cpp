@@ -76,17 +76,17 @@ float near_copy_tolerance(glm::vec3 lo, glm::vec3 hi) {
 // same for a copy however it was turned and moved (within twice the
 // tolerance for a near copy), so most meshes of one topology that are not
 // copies are told apart without comparing their vertices.
-float vertex_spread(const Mesh& mesh) {
-  if (mesh.positions.empty()) return 0.0f;
+float vertex_spread(const std::vector<glm::vec3>& positions) {
+  if (positions.empty()) return 0.0f;
   glm::dvec3 sum(0.0);
-  for (const glm::vec3& p : mesh.positions) sum += glm::dvec3(p);
-  const glm::dvec3 centroid = sum / double(mesh.positions.size());
+  for (const glm::vec3& p : positions) sum += glm::dvec3(p);
+  const glm::dvec3 centroid = sum / double(positions.size());
   double squares = 0.0;
-  for (const glm::vec3& p : mesh.positions) {
+  for (const glm::vec3& p : positions) {
     const glm::dvec3 d = glm::dvec3(p) - centroid;
     squares += glm::dot(d, d);
   }
-  return float(std::sqrt(squares / double(mesh.positions.size())));
+  return float(std::sqrt(squares / double(positions.size())));
 }
 
 // Where b lies as a copy of a: the rigid motion (a turn and a shift, no
@@ -95,10 +95,10 @@ float vertex_spread(const Mesh& mesh) {
 // transforms into the vertices (OBJ has no instances) give each copy of a
 // part its own turned and moved vertices; it shares a's field, placed by
 // this motion.
-std::optional<glm::mat4> copy_placement(const Mesh& a, const Mesh& b, float tolerance) {
-  if (a.positions.size() != b.positions.size() || a.indices != b.indices || a.positions.empty()) return std::nullopt;
-  const std::vector<glm::vec3>& p = a.positions;
-  const std::vector<glm::vec3>& q = b.positions;
+// (p and q: the two meshes' vertices, their triangles the same)
+std::optional<glm::mat4> copy_placement(const std::vector<glm::vec3>& p, const std::vector<glm::vec3>& q,
+                                        float tolerance) {
+  if (p.size() != q.size() || p.empty()) return std::nullopt;
   auto within = [&](const glm::mat3& turn, glm::vec3 shift) {
     for (size_t i = 0; i < p.size(); ++i)
       if (!(glm::distance(turn * p[i] + shift, q[i]) <= tolerance)) return false;
@@ -443,23 +443,19 @@ uint64_t ObjectFields::digest(const GpuScene& scene, uint32_t mesh) {
     d.topology[int(Form::Stored)] = stored_topology;
     // The weld is kept while the triangles are the same ones and the
     // vertices it joined still meet (a deforming mesh's, every frame).
-    auto welded = std::make_shared<Mesh>();
-    std::optional<std::vector<glm::vec3>> positions;
+    std::optional<std::vector<glm::vec3>> welded;
     if (it != digests_.end() && it->second.topology[int(Form::Stored)] == stored_topology && it->second.weld) {
-      positions = welded_positions(geometry, *it->second.weld);
+      welded = welded_positions(geometry, *it->second.weld);
       d.weld = it->second.weld;
       d.topology[int(Form::Welded)] = it->second.topology[int(Form::Welded)];
     }
-    if (!positions) {
+    if (!welded) {
       d.weld = std::make_shared<const WeldedTriangles>(weld_by_position(geometry));
-      positions = welded_positions(geometry, *d.weld);
+      welded = welded_positions(geometry, *d.weld);
+      d.topology[int(Form::Welded)] = topology_digest(welded->size(), d.weld->indices);
     }
-    welded->positions = std::move(*positions);
-    welded->indices = d.weld->indices;
-    if (d.weld != (it != digests_.end() ? it->second.weld : nullptr)) d.topology[int(Form::Welded)] = topology_digest(*welded);
-    d.spread[int(Form::Stored)] = vertex_spread(geometry);
+    d.spread[int(Form::Stored)] = vertex_spread(geometry.positions);
     d.spread[int(Form::Welded)] = vertex_spread(*welded);
-    d.welded = welded;
     for (size_t t = 0; t < geometry.triangle_count(); ++t) {
       const glm::vec3 a = geometry.positions[geometry.indices[3 * t]];
       d.area += 0.5 * double(glm::length(glm::cross(geometry.positions[geometry.indices[3 * t + 1]] - a,
@@ -492,10 +488,17 @@ std::optional<glm::mat4> ObjectFields::copy_of(const GpuScene& scene, uint32_t a
   auto it = copies_.find(key);
   if (it != copies_.end()) return it->second;
   if (copies_.size() >= kNearCopyVerdicts) copies_.clear();
-  const Mesh& stored_a = scene.scene().meshes[a];
-  const Mesh& stored_b = scene.scene().meshes[b];
-  return copies_[key] = form == Form::Welded ? copy_placement(*first.welded, *second.welded, tolerance)
-                                             : copy_placement(stored_a, stored_b, tolerance);
+  const Mesh &mesh_a = scene.scene().meshes[a], &mesh_b = scene.scene().meshes[b];
+  if (form == Form::Stored)
+    return copies_[key] = mesh_a.indices == mesh_b.indices
+                              ? copy_placement(mesh_a.positions, mesh_b.positions, tolerance)
+                              : std::nullopt;
+  // (welded again from the kept welds: digest found they hold)
+  const std::optional<std::vector<glm::vec3>> welded_a = welded_positions(mesh_a, *first.weld),
+                                               welded_b = welded_positions(mesh_b, *second.weld);
+  return copies_[key] = welded_a && welded_b && first.weld->indices == second.weld->indices
+                            ? copy_placement(*welded_a, *welded_b, tolerance)
+                            : std::nullopt;
 }
 
 void ObjectFields::pack(const std::vector<Field*>& fields) {

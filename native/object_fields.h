@@ -179,8 +179,7 @@ class ObjectFields {
     uint64_t digest = 0;
     uint64_t topology[2] = {};  // topology_digest, per Form
     float spread[2] = {};       // vertex_spread, per Form
-    std::shared_ptr<const WeldedTriangles> weld;  // which vertices the welded form joins
-    std::shared_ptr<const Mesh> welded;  // the welded form's positions and triangles
+    std::shared_ptr<const WeldedTriangles> weld;  // which vertices the welded form joins, and its triangles
     double area = 0.0;  // the mesh's surface area
   };
 
