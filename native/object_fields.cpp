@@ -61,7 +61,7 @@ constexpr float kNearCopyShare = 5e-4f;
 // as many sizes would otherwise compare each with all the others.
 constexpr size_t kNearCopyCandidates = 32;
 
-// How many near_copies verdicts are kept before they are let go: a
+// How many copy_of verdicts are kept before they are let go: a
 // deforming mesh brings new digests every frame, and the verdicts of the
 // shapes gone would pile up.
 constexpr size_t kNearCopyVerdicts = 4096;
