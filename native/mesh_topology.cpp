@@ -46,6 +46,12 @@ glm::vec3 lowest_corner(const Mesh& mesh) {
 
 }  // namespace
 
+double triangle_area(const Mesh& mesh, size_t t) {
+  const glm::dvec3 a(mesh.positions[mesh.indices[3 * t]]), b(mesh.positions[mesh.indices[3 * t + 1]]);
+  const glm::dvec3 c(mesh.positions[mesh.indices[3 * t + 2]]);
+  return 0.5 * glm::length(glm::cross(b - a, c - a));
+}
+
 PieceTopology piece_topology(const Mesh& mesh) {
   const size_t triangles = mesh.triangle_count();
   // Vertices at the same position (to a millionth of the mesh's size, as
@@ -104,11 +110,6 @@ PieceTopology piece_topology(const Mesh& mesh) {
           break;
         }
   }
-  auto triangle_area = [&](uint32_t t) {
-    const glm::dvec3 a(mesh.positions[mesh.indices[3 * t]]), b(mesh.positions[mesh.indices[3 * t + 1]]);
-    const glm::dvec3 c(mesh.positions[mesh.indices[3 * t + 2]]);
-    return 0.5 * glm::length(glm::cross(b - a, c - a));
-  };
   std::vector<int8_t> turn(triangles, 0);  // +1: as stored, -1: reversed (0: not reached yet)
   std::vector<uint32_t> patch;
   for (uint32_t seed = 0; seed < triangles; ++seed) {
@@ -118,7 +119,7 @@ PieceTopology piece_topology(const Mesh& mesh) {
     double kept = 0.0, reversed = 0.0;
     for (size_t i = 0; i < patch.size(); ++i) {
       const uint32_t t = patch[i];
-      (turn[t] > 0 ? kept : reversed) += triangle_area(t);
+      (turn[t] > 0 ? kept : reversed) += triangle_area(mesh, t);
       for (const Neighbour& n : neighbours[t])
         if (n.triangle != kNone && turn[n.triangle] == 0) {
           turn[n.triangle] = int8_t(n.same_way ? turn[t] : -turn[t]);

@@ -48,6 +48,10 @@ struct PieceTopology {
 };
 PieceTopology piece_topology(const Mesh& mesh);
 
+// The area of triangle t of `mesh` (in double: the huge coordinates a scene
+// may hold do not overflow it).
+double triangle_area(const Mesh& mesh, size_t t);
+
 // A mesh's vertices joined where they lie at exactly one position: the
 // surface as its field sees it, whatever split its vertices (sharp edges,
 // UV seams, the per-corner normals an importer brings). Welded vertices are

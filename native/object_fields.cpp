@@ -456,11 +456,7 @@ uint64_t ObjectFields::digest(const GpuScene& scene, uint32_t mesh) {
     }
     d.spread[int(Form::Stored)] = vertex_spread(geometry.positions);
     d.spread[int(Form::Welded)] = vertex_spread(*welded);
-    for (size_t t = 0; t < geometry.triangle_count(); ++t) {
-      const glm::vec3 a = geometry.positions[geometry.indices[3 * t]];
-      d.area += 0.5 * double(glm::length(glm::cross(geometry.positions[geometry.indices[3 * t + 1]] - a,
-                                                     geometry.positions[geometry.indices[3 * t + 2]] - a)));
-    }
+    for (size_t t = 0; t < geometry.triangle_count(); ++t) d.area += triangle_area(geometry, t);
     it = digests_.insert_or_assign(mesh, std::move(d)).first;
   }
   return it->second.digest;
