@@ -43,6 +43,9 @@ constexpr float kReprojectedDepthTolerance = 0.01f;
 // screen takes each one's box apart (screen_region.h); beyond, one box
 // holding them all.
 constexpr size_t kSeparatelyBoundedInstances = 64;
+// Adaptive sampling judges a pixel's samples from this many on (and half of
+// its samples): fewer always agree, whatever lies in the pixel.
+constexpr int kFewestSamplesJudged = 4;
 
 // The sub-pixel jitter's reach in whole pixels: the pixel filter's jitter
 // reaches filter_width pixels either way.
@@ -254,6 +257,8 @@ void Renderer::validate(int width, int height, const RenderSettings& settings) c
   if (width < 1 || height < 1 || width > 16384 || height > 16384)
     throw Error("image size " + std::to_string(width) + "x" + std::to_string(height) + " is out of range (1 to 16384)");
   if (settings.samples < 1 || settings.samples > 4096) throw Error("samples must be 1 to 4096");
+  if (!(settings.noise_threshold >= 0.0f && settings.noise_threshold <= 1.0f))
+    throw Error("noise_threshold must be 0 (every sample) to 1");
   if (settings.history_samples < 0 || settings.history_samples > 4096)
     throw Error("history_samples must be 0 to 4096");
   if (!(settings.filter_width >= 0.0f && settings.filter_width <= 500.0f))
@@ -589,15 +594,29 @@ void Renderer::begin(GpuScene& scene, const Camera& camera, const std::vector<Li
   shadow_map_renders_ = 0;
   history_frames_ = has_history_ ? frame_ : 0;
   frame_ = 0;
+  listed_for_next_frame_ = all_converged_ = false;
+  stats_.sampled_share = 0.0;
   if (!has_history_) sequence_ = 0;
   timings_.total_ms = ms_since(start);
 }
 
+bool Renderer::visibility_due(int done) const {
+  return has_casters_ && (settings_.sdf_updates == 0 || done < settings_.sdf_updates);
+}
+
+bool Renderer::visibility_settled() const {
+  if (refining()) return false;
+  if (uses_fine_sdf(settings_.shadow_method) && visibility_due(fine_updates_)) return false;
+  const MethodTraits& method = traits(settings_.shadow_method);
+  // (csm_jitter's maps move every frame by design, as the march's jitter does)
+  return method.jittered_maps || !uses_shadow_maps(settings_.shadow_method) || !visibility_due(shadow_map_renders_);
+}
+
 void Renderer::add_frame() {
   if (!scene_) throw Error("add_frame: call begin() first");
+  if (all_converged_ && !refining()) return;  // (every pixel has converged: no frame is left to draw)
   const Clock::time_point start = Clock::now();
-  // The visibility's per-frame work, in the first sdf_updates frames (0: every frame).
-  auto due = [&](int done) { return has_casters_ && (settings_.sdf_updates == 0 || done < settings_.sdf_updates); };
+  auto due = [&](int done) { return visibility_due(done); };
   stats_.last_frame_traced_texels = 0;
   if (uses_fine_sdf(settings_.shadow_method) && due(fine_updates_)) {
     fine_.update(*scene_, coarse_, fine_grid_, fine_settings(), changed_region_ ? &*changed_region_ : nullptr);
@@ -666,7 +685,16 @@ void Renderer::add_frame() {
   // and resolved with the sample after it.
   const bool resolves = has_history_ && frame_ == 0;
   const bool keeps = resolves && same_lighting_ && camera_stayed_;
-  push_.kept_history = keeps ? 1u : 0u;
+  // After a keep pass or a converged test in the frame before: the tiles it listed alone.
+  const bool listed_before = listed_for_next_frame_ && !resolves;
+  push_.listed_tiles = keeps || listed_before ? 1u : 0u;
+  // Adaptive sampling: the converged test after this frame, from the frame
+  // that completes half the samples on (every pixel has taken those), and at
+  // least kFewestSamplesJudged (one or two samples always agree), where the
+  // next frame sees the visibility as this one.
+  const int judged_from = std::max((settings_.samples + 1) / 2, kFewestSamplesJudged);
+  const bool tests_convergence = settings_.noise_threshold > 0.0f && frame_ + 1 >= judged_from &&
+                                 frame_ + 1 < settings_.samples && visibility_settled();
   const gpu::TemporalPush temporal = resolves ? temporal_push() : gpu::TemporalPush{};
   const TemporalImages temporal_images{accum_.color,    accum_.passes,    history_.color,   history_.passes,
                                        resolved_.color, resolved_.passes, history_.moments, resolved_.moments};
@@ -690,7 +718,12 @@ void Renderer::add_frame() {
     kept_region = temporal_.keep_region(unsettled);
     drawn = temporal_.drawn_region(unsettled);
   }
+  if (listed_before) {
+    kept_region = unsettled_;
+    drawn = temporal_.drawn_region(unsettled_);
+  }
   stats_.drawn_share = kept_region.share();
+  stats_.sampled_share += stats_.drawn_share / double(settings_.samples);
   context_.submit_and_wait([&](VkCommandBuffer cmd) {
     shading_timer_.begin(cmd);
     gbuffer_.record(cmd, *scene_, frame_buffer_, field_voxels_, instance_motions_, instance_deformed_, drawn);
@@ -713,6 +746,11 @@ void Renderer::add_frame() {
       temporal_.record(cmd, gbuffer_, temporal_images, frame_buffer_, light_buffer_, temporal, keeps);
       shading_timer_.mark(cmd, "temporal");
     }
+    if (tests_convergence) {
+      compute_barrier(cmd);
+      temporal_.record_converged(cmd, resolves ? resolved_ : accum_, temporal_push());
+      shading_timer_.mark(cmd, "converged");
+    }
   });
   if (resolves) std::swap(accum_, resolved_);
   // What may not have settled now: where the keep pass did not keep; every
@@ -727,12 +765,20 @@ void Renderer::add_frame() {
   else if (frame_ == 0)
     unsettled_ = TileMask::whole(size);
   if (frame_ + 1 >= temporal_push().history_samples) unsettled_ = TileMask(size);
+  // The tiles still short of samples (the next change's unsettled ones) are
+  // the next frames': those the keep pass did not keep (a kept pixel is
+  // settled, with its full samples), until a converged test finds which are.
+  if (tests_convergence)
+    unsettled_ = temporal_.unsettled_tiles().spread([](int x) { return glm::ivec2(x - 1, x); },
+                                                    [](int y) { return glm::ivec2(y - 1, y); });
+  listed_for_next_frame_ = keeps || tests_convergence || listed_before;
+  if (keeps || tests_convergence) all_converged_ = unsettled_.is_empty();
   drawn_frame_ = frame_data_;
   timings_.shade_ms += ms_since(shading);
   for (const vk::GpuTimer::Span& span : shading_timer_.read()) {
     (span.label == "gbuffer" ? timings_.gbuffer_gpu_ms : timings_.shade_gpu_ms) += span.ms;
     if (span.label == "quad") timings_.quad_gpu_ms += span.ms;
-    if (span.label == "keep" || span.label == "temporal") timings_.temporal_gpu_ms += span.ms;
+    if (span.label == "keep" || span.label == "temporal" || span.label == "converged") timings_.temporal_gpu_ms += span.ms;
     if (span.label == "keep") timings_.keep_gpu_ms += span.ms;
   }
   timings_.total_ms += ms_since(start);
@@ -751,6 +797,7 @@ gpu::TemporalPush Renderer::temporal_push() const {
   temporal.depth_tolerance = kReprojectedDepthTolerance;
   temporal.jitter_reach = jitter_reach(settings_.filter_width);
   temporal.same_lighting = same_lighting_ ? 1u : 0u;
+  temporal.noise_threshold = settings_.noise_threshold;
   return temporal;
 }
 
@@ -802,7 +849,7 @@ RenderOutput Renderer::render(GpuScene& scene, const Camera& camera, const std::
                               const Progress& progress) {
   const Clock::time_point start = Clock::now();
   begin(scene, camera, lights, ambient, width, height, settings, /*scene_changed=*/true);
-  for (int sample = 0; sample < settings.samples; ++sample) {
+  for (int sample = 0; sample < settings.samples && !all_converged_; ++sample) {
     add_frame();
     if (progress && !progress(sample + 1, settings.samples)) break;
   }

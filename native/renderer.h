@@ -97,6 +97,13 @@ struct RenderSettings {
   // costly, such as dense CAD, the faster playback).
   int short_history_rays = 4;
   int samples = 16;              // accumulation frames (sub-pixel and shadow-origin jitter each)
+  // Adaptive sampling: once half the frames are drawn (4 at least) and the
+  // fields and shadow maps no longer change, a tile of pixels whose samples
+  // agree (one sample's standard deviation below this share of each pixel's
+  // brightness) takes no more; the frames after shade only the tiles still
+  // short, and an accumulation whose every tile has converged ends early
+  // (shaders/temporal_converged.comp). 0: every pixel takes every sample.
+  float noise_threshold = 0.03f;
   // Pixel filter: Blackman-Harris, this wide in pixels (Blender's Filter Size,
   // Cycles' default filter and width), sampled by each frame's sub-pixel
   // jitter so that accumulated frames converge to the filtered image, as
@@ -163,6 +170,7 @@ void visit_settings(Settings& settings, Visit&& visit) {
   visit("shadow_max_steps", settings.shadow_max_steps);
   visit("max_step", settings.max_step);
   visit("samples", settings.samples);
+  visit("noise_threshold", settings.noise_threshold);
   visit("filter_width", settings.filter_width);
   visit("sdf_updates", settings.sdf_updates);
   visit("grid_slack", settings.grid_slack);
@@ -195,9 +203,14 @@ struct RenderStats {
   bool surface_limited = false;  // ... to fit the fields' surface voxel budget (ObjectFieldSettings), not the memory
   int skipped_degenerate = 0;   // rtsdf: instances a scale flattens to nothing, left out of the fields
   // The share of the image the last frame drew (the tiles its temporal keep
-  // pass tested; its G-buffer drew a rectangle around them): below 1 in a
-  // playback step that drew its changed region alone.
+  // pass tested, or the converged test left to shade; its G-buffer drew a
+  // rectangle around them): below 1 in a playback step that drew its changed
+  // region alone, and in the frames after pixels converged.
   double drawn_share = 0.0;
+  // The frames' shading work over what every pixel sampled in every frame
+  // would have been (the drawn shares summed, over the frames asked for):
+  // below 1 where adaptive sampling stopped tiles or the whole accumulation.
+  double sampled_share = 0.0;
   // The share of the image whose history the last frame's keep pass found
   // may stand for one sample or none (a moved shadow on a still surface, a
   // disocclusion): there its exact rays, if any, were short_history_rays
@@ -265,6 +278,9 @@ class Renderer {
              int height, const RenderSettings& settings, bool scene_changed);
   void add_frame();
   int frames() const { return frame_; }
+  // Whether the accumulation is done: its samples drawn, or every tile
+  // converged (RenderSettings::noise_threshold), and no field refining.
+  bool converged() const { return !refining() && (frame_ >= settings_.samples || all_converged_); }
   // Whether some object-space field is still refining: a viewport keeps
   // drawing frames until it is not, even with its samples in.
   bool refining() const {
@@ -310,6 +326,12 @@ class Renderer {
   // The fields' memory and bricks under `method` into stats_.
   void update_field_memory_stats(ShadowMethod method);
   FineTraceSettings fine_settings() const;
+  // The visibility's per-frame work, in the first sdf_updates frames (0:
+  // every frame), `done` of them done.
+  bool visibility_due(int done) const;
+  // Whether the frames from the next on see the visibility as this one did:
+  // no field refines or updates, and no shadow map is rendered again.
+  bool visibility_settled() const;
   // The temporal passes' constants for this accumulation's settings and lights.
   gpu::TemporalPush temporal_push() const;
 
@@ -354,13 +376,6 @@ class Renderer {
   std::vector<Bounds> sky_blockers_;   // found with the shadow casters
   vk::Buffer light_buffer_;
   vk::Buffer frame_buffer_;
-  // Each pixel's running means over its samples, and their second moments:
-  // the images of one accumulation, which change roles together.
-  struct Accumulation {
-    vk::Image color;    // rgb = Combined, a = coverage
-    vk::Image passes;   // x = nearest depth, y = shadow, z = samples in the pixel's mean, w = farthest depth
-    vk::Image moments;  // the samples' second moments (shaders/sample_moments.glsl.h)
-  };
   Accumulation accum_;
 
   // Temporal reuse: the last accumulation (history) while the first frame
@@ -382,6 +397,11 @@ class Renderer {
   // keep, until the frames after it have drawn every pixel's samples.
   TileMask change_on_screen_;
   TileMask unsettled_;
+  // The last frame's keep pass or converged test listed the tiles still
+  // short of samples (unsettled_): the next frame shades those alone; or it
+  // found none, and the accumulation is done.
+  bool listed_for_next_frame_ = false;
+  bool all_converged_ = false;
 };
 
 }  // namespace rtsdf

@@ -80,7 +80,7 @@ ViewportFrame Viewport::draw(const View& view, const RenderSettings& requested) 
     drawn_settings_ = settings;
   }
   const Clock::time_point begun = Clock::now();
-  if (renderer_.frames() < settings.samples || renderer_.refining()) {
+  if (!renderer_.converged()) {
     renderer_.add_frame();
     frame.advanced = true;
   }
@@ -89,7 +89,7 @@ ViewportFrame Viewport::draw(const View& view, const RenderSettings& requested) 
   frame.begin_ms = ms_between(start, begun);
   frame.frame_ms = ms_between(begun, added);
   frame.read_ms = ms_between(added, Clock::now());
-  frame.converged = frame.image.samples_done >= settings.samples && !renderer_.refining();
+  frame.converged = renderer_.converged();
   frame.effective_samples = settings.temporal_reuse ? frame.image.effective_samples : double(frame.image.samples_done);
   return frame;
 }

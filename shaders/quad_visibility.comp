@@ -45,19 +45,19 @@ void main() {
     imageStore(quad_samples, quad, vec4(n, sky_visibility(origin, n, receiver_voxel, march_jitter(pixel), pixel)));
     return;
   }
-  ivec2 quad = pc.kept_history == 1u ? listed_tile(quad_groups()) * int(kQuadGroup) + ivec2(gl_LocalInvocationID.xy)
+  ivec2 quad = pc.listed_tiles == 1u ? listed_tile(quad_groups()) * int(kQuadGroup) + ivec2(gl_LocalInvocationID.xy)
                                      : ivec2(gl_GlobalInvocationID.xy);
   if (any(greaterThanEqual(quad, quad_grid()))) return;
   int quad_index = quad.x + quad_grid().x * quad.y;
   ivec2 pixel = quad_sample_pixel(quad);
   vec4 position = imageLoad(g_position, pixel);
   // A quad no pixel that shares its sample shades (shared_visibility: the
-  // 4 x 4 pixels around it, all kept from history) is not marched. (Its
+  // 4 x 4 pixels around it, all left unshaded) is not marched. (Its
   // own pixels alone would leave the next quad's pixels at a kept region's
   // edge without their neighbour's sample, and the fill pass marched each.)
-  bool kept = pc.kept_history == 1u;
+  bool kept = pc.listed_tiles == 1u;
   for (int k = 0; k < 16 && kept; ++k)
-    kept = kept_from_history(clamp(2 * quad + ivec2(k & 3, k >> 2) - 1, ivec2(0), pc.image_size - 1));
+    kept = left_unshaded(clamp(2 * quad + ivec2(k & 3, k >> 2) - 1, ivec2(0), pc.image_size - 1));
   if (position.w <= 0.0 || kept) {
     imageStore(quad_samples, quad, vec4(0.0, 0.0, 0.0, -1.0));
     if (kShadeStage == kShadeShared)

@@ -31,8 +31,10 @@ vec4 moments_moved_to(vec4 moments, vec3 mean, vec3 moved) {
   return vec4(y * y + sigma * sigma, 0.0);
 }
 
+#ifndef RTSDF_NO_GBUFFER
 // The history bit of the instance a G-buffer pixel shows (none where it
 // shows no surface). Needs g_normal (its w holds the bit).
 uint surface_bits(ivec2 pixel, vec4 position) {
   return position.w > 0.0 ? 1u << uint(imageLoad(g_normal, pixel).w) : 0u;
 }
+#endif

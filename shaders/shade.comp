@@ -34,10 +34,10 @@ void main() {
   if (kShadeStage == kShadeFill) {
     if (!listed_for_this_pass(pixel)) return;
   } else {
-    pixel = pc.kept_history == 1u ? listed_tile(pixel_tiles()) * int(kTemporalTile) + ivec2(gl_LocalInvocationID.xy)
+    pixel = pc.listed_tiles == 1u ? listed_tile(pixel_tiles()) * int(kTemporalTile) + ivec2(gl_LocalInvocationID.xy)
                                   : ivec2(gl_GlobalInvocationID.xy);
     if (any(greaterThanEqual(pixel, pc.image_size))) return;
-    if (kept_from_history(pixel)) return;  // (its sample is history's, written by the keep pass)
+    if (left_unshaded(pixel)) return;  // (its sample is history's, written by the keep pass; or it converged)
   }
   vec4 position = imageLoad(g_position, pixel);
   vec3 color = frame.ambient.rgb;

@@ -50,17 +50,20 @@ layout(binding = 7, rgba32f) uniform image2D accum_passes;
 layout(binding = 20, rgba32f) uniform image2D accum_moments;
 #endif
 
-// With pc.kept_history, the tiles where the keep pass left pixels to shade:
-// the pixel and quad passes run on those alone.
+// With pc.listed_tiles, the tiles holding pixels to shade, listed by the
+// temporal keep pass (temporal_keep.comp) or by the converged test after the
+// frame before (temporal_converged.comp): the pixel and quad passes run on
+// those alone.
 layout(std430, binding = 19) readonly buffer KeptTiles { uint tile_words[]; };
 #include "kept_tiles.glsl.h"
 
-// Whether the temporal keep pass (temporal_keep.comp) took this pixel's
-// history as this frame's sample: nothing of it is shaded.
-bool kept_from_history(ivec2 pixel) {
+// Whether this frame shades nothing of this pixel: its tile is not listed
+// (the rest of the tile's pixels were kept, or all have converged), or the
+// keep pass took its history as this frame's sample.
+bool left_unshaded(ivec2 pixel) {
   // (a pixel of a tile the keep pass did not list is kept, and may not carry
   // its mark: the keep pass runs over fewer tiles than the quad pass reads)
-  return pc.kept_history == 1u &&
+  return pc.listed_tiles == 1u &&
          (!tile_listed(pixel_tiles(), pixel / int(kTemporalTile)) || imageLoad(accum_passes, pixel).z == kKeptSample);
 }
 
@@ -190,7 +193,7 @@ float rays_to_light(LightPath path, vec3 p, vec3 n, ivec2 pixel, int count) {
 // 1/4, ... 1) made a moved penumbra speckled where the still frame, 16
 // samples of 4, is smooth (docs/benchmarks.md).
 int exact_rays_at(ivec2 pixel) {
-  bool short_history = pc.kept_history == 1u && imageLoad(accum_passes, pixel).z == kShortHistorySample;
+  bool short_history = pc.listed_tiles == 1u && imageLoad(accum_passes, pixel).z == kShortHistorySample;
   return int(pc.exact_rays) * (short_history ? int(pc.short_history_rays) : 1);
 }
 

@@ -218,8 +218,10 @@ struct TemporalPush {
   float depth_tolerance;       // relative depth a reprojected surface may differ by
   float jitter_reach;          // the sub-pixel jitter's reach (whole pixels)
   uint same_lighting;          // 1: the lights and the world are as history saw them (pixels may settle)
+  // The converged test (temporal_converged.comp): a pixel whose samples'
+  // spread is below this share of its brightness takes no more.
+  float noise_threshold;
   uint pad0;
-  uint pad1;
 };
 // The keep pass lists the tiles of kTemporalTile^2 pixels and the groups of
 // kQuadGroup^2 quads where pixels it did not keep lie (kept_tiles.glsl.h).
@@ -334,8 +336,9 @@ struct ShadePush {
   uint field_view;               // kDebug*: a view of the fields in place of the image
   float field_view_height;       // the distance slice's world z
   float sky_receiver_clearance;  // ... and the sky's cones
-  uint kept_history;             // 1: the temporal keep pass ran; pixels marked kKeptSample are not shaded
-  uint short_history_rays;       // ... and those marked kShortHistorySample take this many times exact_rays
+  uint listed_tiles;             // 1: shaded over the tiles a pass listed (kept_tiles.glsl.h): the temporal keep
+                                 // pass (pixels marked kKeptSample are not shaded) or the converged test
+  uint short_history_rays;       // pixels the keep pass marked kShortHistorySample take this many times exact_rays
   uint pad0;                     // (the block's size a multiple of its vec2's 8 bytes, as in GLSL)
 };
 

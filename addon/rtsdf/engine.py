@@ -100,8 +100,11 @@ class RTSDFRenderEngine(bpy.types.RenderEngine):
                                    f"{field_summary(out['stats'])}")
         reuse = f", {out['effective_samples']:.1f} samples with earlier frames'" if out["scene_reused"] and \
             out["effective_samples"] > out["samples_done"] else ""
+        # (adaptive sampling: the pixels' samples shaded, of every pixel in every frame asked for)
+        sampled = out["stats"]["sampled_share"]
+        adaptive = f" of {out['samples_done']} frames, {sampled:.0%} of the pixels' samples" if sampled < 0.995 else ""
         print(f"RTSDF: frame {scene.frame_current} {width}x{height} in {ms['total']:.0f} ms{reuse} "
-              f"(SDF {ms['sdf']:.0f}, fine {ms['fine']:.0f}, shading {ms['shade']:.0f}) on {session.device}; "
+              f"(SDF {ms['sdf']:.0f}, fine {ms['fine']:.0f}, shading {ms['shade']:.0f}{adaptive}) on {session.device}; "
               f"{field_summary(out['stats'])}")
         for line in field_lines(out["stats"], [mesh.get("key", "?") for mesh in data["meshes"]]):
             print(f"RTSDF:   {line}")

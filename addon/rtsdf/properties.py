@@ -96,6 +96,13 @@ class RTSDFSettings(bpy.types.PropertyGroup):
         name="Samples", default=16, min=1, max=1024,
         description="Accumulation frames for a final render, each with its own sub-pixel and shadow jitter. More: "
                     "smoother penumbrae and edges; the render takes that many frames")
+    noise_threshold: FloatProperty(
+        name="Noise Threshold", default=0.03, min=0.0, max=1.0, precision=3,
+        description="Adaptive sampling, in final renders and the viewport: once half the samples are in, a tile of "
+                    "pixels whose samples agree (their spread below this share of each pixel's brightness) takes "
+                    "no more, and the render ends once every tile has. Lower: fewer pixels stop early; 0: every "
+                    "pixel takes every sample",
+        update=redraw_viewports)
     animation_reuse: BoolProperty(
         name="Reuse Between Frames", default=False,
         description="Animation renders with Persistent Data (Performance panel): each frame renders Animation "

@@ -96,6 +96,7 @@ class RTSDF_PT_sampling_render(RenderPanel, bpy.types.Panel):
         layout = self.split_layout()
         settings = context.scene.rtsdf
         layout.prop(settings, "samples", text="Samples")
+        layout.prop(settings, "noise_threshold", text="Noise Threshold")
         column = layout.column(heading="Animation")
         column.prop(settings, "animation_reuse", text="Reuse Between Frames")
         row = column.row()

@@ -76,8 +76,8 @@ void ShadePass::record(VkCommandBuffer cmd, const ShadeInputs& in, const ShadeTa
   share_lights = share_lights && mode != gpu::kVisibilityShadowMaps && push.light_count > 0 &&
                  push.light_count <= kMaxSharedLights;
   const glm::ivec2 size = push.image_size;
-  const KeptTiles* kept_tiles = push.kept_history ? in.kept_tiles : nullptr;
-  if (push.kept_history && !kept_tiles) throw Error("ShadePass: kept history needs the keep pass's tiles");
+  const KeptTiles* kept_tiles = push.listed_tiles ? in.kept_tiles : nullptr;
+  if (push.listed_tiles && !kept_tiles) throw Error("ShadePass: listed tiles need the tile lists (TemporalPass::kept_tiles)");
   if (kept_tiles)
     vk::memory_barrier(cmd, VK_ACCESS_SHADER_WRITE_BIT, VK_ACCESS_INDIRECT_COMMAND_READ_BIT | VK_ACCESS_SHADER_READ_BIT,
                        VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,

@@ -33,8 +33,9 @@ struct ShadeInputs {
   const GpuScene::RayStructures* rays;
   const vk::Buffer& lights;
   const vk::Buffer& frame;
-  // With push.kept_history: the tiles where the keep pass left pixels to
-  // shade (TemporalPass::kept_tiles); the passes run there alone.
+  // With push.listed_tiles: the tiles holding pixels to shade, listed by the
+  // keep pass or the converged test (TemporalPass::kept_tiles); the passes
+  // run there alone.
   const KeptTiles* kept_tiles;
 };
 

@@ -5,6 +5,7 @@
 #include <utility>
 
 #include "error.h"
+#include "spirv/spirv_temporal_converged_comp.h"
 #include "spirv/spirv_temporal_keep_comp.h"
 #include "spirv/spirv_temporal_quad_groups_comp.h"
 #include "spirv/spirv_temporal_resolve_comp.h"
@@ -27,7 +28,9 @@ TemporalPass::TemporalPass(const vk::Context& context)
       resolve_(context, RTSDF_SPIRV(spirv_temporal_resolve_comp), kBindings, uint32_t(sizeof(gpu::TemporalPush)),
                {0u}),
       resolve_listed_(context, RTSDF_SPIRV(spirv_temporal_resolve_comp), kBindings,
-                      uint32_t(sizeof(gpu::TemporalPush)), {1u}) {}
+                      uint32_t(sizeof(gpu::TemporalPush)), {1u}),
+      converged_(context, RTSDF_SPIRV(spirv_temporal_converged_comp), {kImage, kImage, kImage, kBuffer},
+                 uint32_t(sizeof(gpu::TemporalPush))) {}
 
 namespace {
 // The two lists' tiles (shaders/kept_tiles.glsl.h): pixel tiles, quad groups.
@@ -154,12 +157,7 @@ void TemporalPass::record_keep(VkCommandBuffer cmd, const GBufferPass& gbuffer, 
   if (region.image_size() != size_) throw Error("TemporalPass: the keep pass's tiles must be of this image");
   const std::vector<uint32_t> keep_tiles = region.indices();
   std::memcpy(keep_tiles_.mapped(), keep_tiles.data(), keep_tiles.size() * sizeof(uint32_t));
-  // (no tile listed yet, and dispatches of none; no rectangle of them)
-  for (const auto& [first, count] :
-       {std::pair{VkDeviceSize(0), pixel_tiles(size_)}, std::pair{quad_list_first(size_), quad_groups(size_)}}) {
-    vk::clear_indirect_dispatch(cmd, tiles_, first * sizeof(uint32_t));
-    vkCmdFillBuffer(cmd, tiles_.handle(), (first + 4) * sizeof(uint32_t), count * sizeof(uint32_t), 0u);
-  }
+  clear_lists(cmd);
   // Outside the region every pixel is settled: history as it was is its
   // resolved accumulation and its sample (for the resolve's neighbourhoods).
   copy_rects(cmd,
@@ -174,16 +172,50 @@ void TemporalPass::record_keep(VkCommandBuffer cmd, const GBufferPass& gbuffer, 
   keep_.push_descriptors(cmd, bindings(gbuffer, images, frame, lights, tiles_, keep_tiles_));
   keep_.push_constants(cmd, push);
   if (!keep_tiles.empty()) vkCmdDispatch(cmd, uint32_t(keep_tiles.size()), 1, 1);
+  list_quad_groups(cmd, push, /*short_history_count=*/true);
+}
+
+void TemporalPass::record_converged(VkCommandBuffer cmd, const Accumulation& accumulation,
+                                    const gpu::TemporalPush& push) const {
+  if (push.image_size != size_) throw Error("TemporalPass: resize to the image first");
+  // (the lists this frame's shading ran over are cleared after it)
+  vk::memory_barrier(cmd, VK_ACCESS_SHADER_WRITE_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
+                     VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT,
+                     VK_PIPELINE_STAGE_TRANSFER_BIT);
+  clear_lists(cmd);
+  vk::memory_barrier(cmd, VK_ACCESS_TRANSFER_WRITE_BIT | VK_ACCESS_SHADER_WRITE_BIT,
+                     VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT,
+                     VK_PIPELINE_STAGE_TRANSFER_BIT | VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                     VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT);
+  converged_.bind(cmd);
+  converged_.push_descriptors(
+      cmd, {vk::Resource::storage_image(accumulation.color), vk::Resource::storage_image(accumulation.passes),
+            vk::Resource::storage_image(accumulation.moments), vk::Resource::storage_buffer(tiles_)});
+  converged_.push_constants(cmd, push);
+  vkCmdDispatch(cmd, vk::group_count(size_.x, int(gpu::kTemporalTile)), vk::group_count(size_.y, int(gpu::kTemporalTile)), 1);
+  list_quad_groups(cmd, push, /*short_history_count=*/false);
+}
+
+void TemporalPass::clear_lists(VkCommandBuffer cmd) const {
+  // (no tile listed yet, and dispatches of none; no rectangle of them)
+  for (const auto& [first, count] :
+       {std::pair{VkDeviceSize(0), pixel_tiles(size_)}, std::pair{quad_list_first(size_), quad_groups(size_)}}) {
+    vk::clear_indirect_dispatch(cmd, tiles_, first * sizeof(uint32_t));
+    vkCmdFillBuffer(cmd, tiles_.handle(), (first + 4) * sizeof(uint32_t), count * sizeof(uint32_t), 0u);
+  }
+}
+
+void TemporalPass::list_quad_groups(VkCommandBuffer cmd, const gpu::TemporalPush& push, bool short_history_count) const {
   vk::memory_barrier(cmd, VK_ACCESS_SHADER_WRITE_BIT, VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT,
                      VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT);
-  // (the pixel tiles' flags, for the next step's region)
+  // (the pixel tiles' flags, for the host: the next frame's region)
   vk::memory_barrier(cmd, VK_ACCESS_SHADER_WRITE_BIT, VK_ACCESS_TRANSFER_READ_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
                      VK_PIPELINE_STAGE_TRANSFER_BIT);
-  // (and the count of pixels marked short of history, after them)
+  // (and the count of pixels the keep pass marked short of history, after them)
   const VkBufferCopy copies[2] = {{4 * sizeof(uint32_t), 0, pixel_tiles(size_) * sizeof(uint32_t)},
                                   {gpu::kShortHistoryCountWord * sizeof(uint32_t),
                                    pixel_tiles(size_) * sizeof(uint32_t), sizeof(uint32_t)}};
-  vkCmdCopyBuffer(cmd, tiles_.handle(), unsettled_.handle(), 2, copies);
+  vkCmdCopyBuffer(cmd, tiles_.handle(), unsettled_.handle(), short_history_count ? 2 : 1, copies);
   vk::memory_barrier(cmd, VK_ACCESS_TRANSFER_WRITE_BIT, VK_ACCESS_HOST_READ_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT,
                      VK_PIPELINE_STAGE_HOST_BIT);
   quad_groups_.bind(cmd);

@@ -40,6 +40,14 @@ struct TemporalImages {
   const vk::Image& resolved_moments;
 };
 
+// Each pixel's running means over its samples, and their second moments:
+// the images of one accumulation, which change roles together.
+struct Accumulation {
+  vk::Image color;    // rgb = Combined, a = coverage
+  vk::Image passes;   // x = nearest depth, y = shadow, z = samples in the pixel's mean, w = farthest depth
+  vk::Image moments;  // the samples' second moments (shaders/sample_moments.glsl.h)
+};
+
 class TemporalPass {
  public:
   explicit TemporalPass(const vk::Context& context);
@@ -48,7 +56,7 @@ class TemporalPass {
   // Where every pixel a step would not keep lies in the tiles `unsettled`:
   // the tiles the keep pass tests, those and the neighbours the resolve
   // reads of their kept pixels (the shading reads no mark of the keep pass
-  // outside the tiles it lists, shade_inputs.glsl.h's kept_from_history).
+  // outside the tiles it lists, shade_inputs.glsl.h's left_unshaded).
   TileMask keep_region(const TileMask& unsettled) const;
   // ... and the rectangle holding the pixels whose G-buffer the step reads:
   // those tiles, the quad groups that share samples with them, and the
@@ -64,8 +72,16 @@ class TemporalPass {
   void record_keep(VkCommandBuffer cmd, const GBufferPass& gbuffer, const TemporalImages& images,
                    const vk::Buffer& frame, const vk::Buffer& lights, gpu::TemporalPush push,
                    const TileMask& region) const;
+  // Adaptive sampling, after a frame (shaders/temporal_converged.comp): the
+  // pixels of `accumulation` with history_samples samples, or
+  // push.min_samples that agree within push.noise_threshold, have converged
+  // (counted as sampled in full from then on); the tiles holding any other
+  // are listed for the next frame's shading (kept_tiles).
+  void record_converged(VkCommandBuffer cmd, const Accumulation& accumulation,
+                        const gpu::TemporalPush& push) const;
   // The tiles holding the pixels the last keep pass did not keep (none if
-  // it kept them all); read once its commands have run.
+  // it kept them all), or the last converged test found short of samples;
+  // read once its commands have run.
   TileMask unsettled_tiles() const;
   // The share of the image the last keep pass marked short of history
   // (gpu::kShortHistorySample: their exact rays are more).
@@ -75,8 +91,8 @@ class TemporalPass {
   // pipeline with kListedTiles); otherwise over every pixel.
   void record(VkCommandBuffer cmd, const GBufferPass& gbuffer, const TemporalImages& images, const vk::Buffer& frame,
               const vk::Buffer& lights, const gpu::TemporalPush& push, bool after_keep) const;
-  // The lists of tiles where the last keep pass left pixels to shade (for
-  // ShadeInputs::kept_tiles).
+  // The lists of tiles where the last keep pass or converged test left
+  // pixels to shade (for ShadeInputs::kept_tiles).
   KeptTiles kept_tiles() const;
 
  private:
@@ -85,9 +101,17 @@ class TemporalPass {
   vk::Pipeline quad_groups_;  // (shaders/temporal_quad_groups.comp)
   vk::Pipeline resolve_;         // (finds each pixel's history)
   vk::Pipeline resolve_listed_;  // (over the keep pass's list, taking the History it handed on)
+  vk::Pipeline converged_;       // (shaders/temporal_converged.comp)
+  // No tile listed in either list.
+  void clear_lists(VkCommandBuffer cmd) const;
+  // After the pixel tiles are listed: their flags read back to the host (and
+  // the keep pass's count of pixels short of history), and the quad groups
+  // listed beside them (shaders/temporal_quad_groups.comp).
+  void list_quad_groups(VkCommandBuffer cmd, const gpu::TemporalPush& push, bool short_history_count) const;
+
   glm::ivec2 size_{0};
   vk::Buffer tiles_;  // see gpu::kTemporalTile
-  vk::Buffer unsettled_;  // the keep pass's listed pixel tiles' flags (host-visible: the next step's region)
+  vk::Buffer unsettled_;  // the listed pixel tiles' flags (host-visible: the next step's or frame's region)
   vk::Buffer keep_tiles_;  // the tiles the keep pass runs over (host-visible: written as it is recorded)
 };
 

@@ -256,6 +256,7 @@ py::dict stats_of(const rtsdf::RenderStats& s) {
   stats["resolution_limited_by"] = s.resolution_scale < 1.0f ? (s.surface_limited ? "surface" : "memory") : "";
   stats["skipped_degenerate"] = s.skipped_degenerate;
   stats["drawn_share"] = s.drawn_share;
+  stats["sampled_share"] = s.sampled_share;
   stats["short_history_share"] = s.short_history_share;
   return stats;
 }

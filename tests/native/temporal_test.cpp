@@ -1283,7 +1283,11 @@ double expect_region_draws_as_whole(const Camera& camera, const std::vector<Ligh
          {std::tuple{&whole_scene, &whole, &whole_settings}, std::tuple{&region_scene, &region, &settings}}) {
       scene->set_transforms(two_cubes_at(x, 1.0f, y));
       renderer->begin(*scene, camera, lights, sky, size.x, size.y, *drawn, true);
-      for (int frame = 0; frame < frames; ++frame) renderer->add_frame();
+      for (int frame = 0; frame < frames; ++frame) {
+        renderer->add_frame();
+        // (the step itself; the frames after it shade the tiles its keep pass did not keep, in both)
+        if (frame == 0 && renderer == &whole) EXPECT_DOUBLE_EQ(whole.stats().drawn_share, 1.0);
+      }
     }
     if (frames == 1) smallest_share = std::min(smallest_share, region.stats().drawn_share);
     const RenderOutput a = whole.read(), b = region.read();
@@ -1298,7 +1302,6 @@ double expect_region_draws_as_whole(const Camera& camera, const std::vector<Ligh
     std::printf("step %d (cubes at x %.1f, y %.1f, %d frames): drawn share %.2f, pixels differing %d (largest %.2e)\n",
                 step_index++, x, y, frames, region.stats().drawn_share, differing, worst);
     EXPECT_EQ(differing, 0) << "a pixel outside the drawn region would have changed";
-    EXPECT_DOUBLE_EQ(whole.stats().drawn_share, 1.0);
   }
   return smallest_share;
 }
