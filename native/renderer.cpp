@@ -710,26 +710,28 @@ void Renderer::add_frame() {
   // on to an offset the still frames did not take), and such a pixel is
   // shaded anew.
   const glm::ivec2 size(width_, height_);
-  TileMask kept_region = TileMask::whole(size);
+  TileMask frame_region = TileMask::whole(size);  // (the tiles the frame works on)
   PixelRect drawn = PixelRect::whole(size);
   if (keeps && centred && settings_.changed_region_only) {
     TileMask unsettled = change_on_screen_;
     unsettled.add(unsettled_.image_size() == size ? unsettled_ : TileMask::whole(size));
-    kept_region = temporal_.keep_region(unsettled);
+    frame_region = temporal_.keep_region(unsettled);
     drawn = temporal_.drawn_region(unsettled);
   }
+  // The frames after a keep pass or a converged test: the tiles they listed
+  // (a tile left out has settled, and stays so in this accumulation).
   if (listed_before) {
-    kept_region = unsettled_;
-    drawn = temporal_.drawn_region(unsettled_);
+    frame_region = listed_;
+    drawn = temporal_.drawn_region(listed_);
   }
-  stats_.drawn_share = kept_region.share();
+  stats_.drawn_share = frame_region.share();
   stats_.sampled_share += stats_.drawn_share / double(settings_.samples);
   context_.submit_and_wait([&](VkCommandBuffer cmd) {
     shading_timer_.begin(cmd);
     gbuffer_.record(cmd, *scene_, frame_buffer_, field_voxels_, instance_motions_, instance_deformed_, drawn);
     shading_timer_.mark(cmd, "gbuffer");
     if (keeps) {
-      temporal_.record_keep(cmd, gbuffer_, temporal_images, frame_buffer_, light_buffer_, temporal, kept_region);
+      temporal_.record_keep(cmd, gbuffer_, temporal_images, frame_buffer_, light_buffer_, temporal, frame_region);
       compute_barrier(cmd);
       shading_timer_.mark(cmd, "keep");
     }
@@ -748,7 +750,7 @@ void Renderer::add_frame() {
     }
     if (tests_convergence) {
       compute_barrier(cmd);
-      temporal_.record_converged(cmd, resolves ? resolved_ : accum_, temporal_push());
+      temporal_.record_converged(cmd, resolves ? resolved_ : accum_, temporal_push(), frame_region);
       shading_timer_.mark(cmd, "converged");
     }
   });
@@ -758,21 +760,20 @@ void Renderer::add_frame() {
   // once the frames since have drawn each pixel's full samples (a pixel
   // shaded anew from no history has them after history_samples frames).
   stats_.short_history_share = keeps ? temporal_.short_history_share() : 0.0;
-  if (keeps)
+  // The tiles still short of samples are the next frames': those the keep
+  // pass did not keep (a kept pixel is settled, with its full samples),
+  // until a converged test finds which still are.
+  if (keeps || tests_convergence) {
+    listed_ = temporal_.unsettled_tiles();
+    all_converged_ = listed_.is_empty();
+  }
+  listed_for_next_frame_ = keeps || tests_convergence || listed_before;
+  if (keeps || tests_convergence)
     // (and the tiles left of and above them: history is read a texel right and below too)
-    unsettled_ = temporal_.unsettled_tiles().spread([](int x) { return glm::ivec2(x - 1, x); },
-                                                    [](int y) { return glm::ivec2(y - 1, y); });
+    unsettled_ = listed_.spread([](int x) { return glm::ivec2(x - 1, x); }, [](int y) { return glm::ivec2(y - 1, y); });
   else if (frame_ == 0)
     unsettled_ = TileMask::whole(size);
   if (frame_ + 1 >= temporal_push().history_samples) unsettled_ = TileMask(size);
-  // The tiles still short of samples (the next change's unsettled ones) are
-  // the next frames': those the keep pass did not keep (a kept pixel is
-  // settled, with its full samples), until a converged test finds which are.
-  if (tests_convergence)
-    unsettled_ = temporal_.unsettled_tiles().spread([](int x) { return glm::ivec2(x - 1, x); },
-                                                    [](int y) { return glm::ivec2(y - 1, y); });
-  listed_for_next_frame_ = keeps || tests_convergence || listed_before;
-  if (keeps || tests_convergence) all_converged_ = unsettled_.is_empty();
   drawn_frame_ = frame_data_;
   timings_.shade_ms += ms_since(shading);
   for (const vk::GpuTimer::Span& span : shading_timer_.read()) {

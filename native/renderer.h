@@ -397,9 +397,10 @@ class Renderer {
   // keep, until the frames after it have drawn every pixel's samples.
   TileMask change_on_screen_;
   TileMask unsettled_;
-  // The last frame's keep pass or converged test listed the tiles still
-  // short of samples (unsettled_): the next frame shades those alone; or it
-  // found none, and the accumulation is done.
+  // The last keep pass or converged test listed the tiles still short of
+  // samples (listed_): the frames after it shade those alone; or it found
+  // none, and the accumulation is done.
+  TileMask listed_;
   bool listed_for_next_frame_ = false;
   bool all_converged_ = false;
 };

@@ -18,12 +18,16 @@
 // stands for many samples, but its spread shows once its own samples differ.
 #include "shared.h"
 
-layout(local_size_x = kTemporalTile, local_size_y = kTemporalTile) in;  // (a work group per tile)
+layout(local_size_x = kTemporalTile, local_size_y = kTemporalTile) in;  // (a work group per tested tile)
 layout(push_constant) uniform Push { TemporalPush pc; };
 layout(binding = 0, rgba32f) uniform readonly image2D accum_color;
 layout(binding = 1, rgba32f) uniform image2D accum_passes;  // z: the samples its mean stands for
 layout(binding = 2, rgba32f) uniform readonly image2D accum_moments;
 layout(std430, binding = 3) buffer Tiles { uint tile_words[]; };
+// The tiles it tests, a work group each (x + tiles across * y): those the
+// frame shaded. A tile left out before has converged, or its pixels were
+// kept from history, settled with their full samples.
+layout(std430, binding = 4) readonly buffer TestedTiles { uint tested_tiles[]; };
 #define RTSDF_LISTS_TILES
 #include "kept_tiles.glsl.h"
 #define RTSDF_NO_GBUFFER  // (the moments alone)
@@ -36,7 +40,9 @@ const float kDarkestJudged = 0.1;
 shared bool tile_short;  // (some pixel of this work group's tile has not converged)
 
 void main() {
-  ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
+  uint across = uint(pixel_tiles().tiles.x), index = tested_tiles[gl_WorkGroupID.x];
+  ivec2 tile = ivec2(index % across, index / across);
+  ivec2 pixel = tile * int(kTemporalTile) + ivec2(gl_LocalInvocationID.xy);
   bool inside = all(lessThan(pixel, pc.image_size));
   if (gl_LocalInvocationIndex == 0u) tile_short = false;
   barrier();
@@ -51,7 +57,7 @@ void main() {
   barrier();
   if (!inside) return;
   if (tile_short) {
-    if (gl_LocalInvocationIndex == 0u) list_tile(pixel_tiles(), ivec2(gl_WorkGroupID.xy));
+    if (gl_LocalInvocationIndex == 0u) list_tile(pixel_tiles(), tile);
     return;
   }
   vec4 passes = imageLoad(accum_passes, pixel);

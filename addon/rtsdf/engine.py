@@ -102,7 +102,7 @@ class RTSDFRenderEngine(bpy.types.RenderEngine):
             out["effective_samples"] > out["samples_done"] else ""
         # (adaptive sampling: the pixels' samples shaded, of every pixel in every frame asked for)
         sampled = out["stats"]["sampled_share"]
-        adaptive = f" of {out['samples_done']} frames, {sampled:.0%} of the pixels' samples" if sampled < 0.995 else ""
+        adaptive = f": {sampled:.0%} of {out['samples_done']} frames' pixels" if sampled < 0.995 else ""
         print(f"RTSDF: frame {scene.frame_current} {width}x{height} in {ms['total']:.0f} ms{reuse} "
               f"(SDF {ms['sdf']:.0f}, fine {ms['fine']:.0f}, shading {ms['shade']:.0f}{adaptive}) on {session.device}; "
               f"{field_summary(out['stats'])}")

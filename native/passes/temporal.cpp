@@ -29,7 +29,7 @@ TemporalPass::TemporalPass(const vk::Context& context)
                {0u}),
       resolve_listed_(context, RTSDF_SPIRV(spirv_temporal_resolve_comp), kBindings,
                       uint32_t(sizeof(gpu::TemporalPush)), {1u}),
-      converged_(context, RTSDF_SPIRV(spirv_temporal_converged_comp), {kImage, kImage, kImage, kBuffer},
+      converged_(context, RTSDF_SPIRV(spirv_temporal_converged_comp), {kImage, kImage, kImage, kBuffer, kBuffer},
                  uint32_t(sizeof(gpu::TemporalPush))) {}
 
 namespace {
@@ -56,6 +56,8 @@ void TemporalPass::resize(glm::ivec2 size) {
                       vk::Buffer::Access::DeviceOnly);
   keep_tiles_ = vk::Buffer(context_, std::max<size_t>(pixel_tiles(size), 1) * sizeof(uint32_t),
                            VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, vk::Buffer::Access::HostVisible);
+  tested_tiles_ = vk::Buffer(context_, std::max<size_t>(pixel_tiles(size), 1) * sizeof(uint32_t),
+                             VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, vk::Buffer::Access::HostVisible);
   unsettled_ = vk::Buffer(context_, (pixel_tiles(size) + 1) * sizeof(uint32_t),
                           VK_BUFFER_USAGE_TRANSFER_DST_BIT, vk::Buffer::Access::HostVisible);
   size_ = size;
@@ -176,8 +178,11 @@ void TemporalPass::record_keep(VkCommandBuffer cmd, const GBufferPass& gbuffer, 
 }
 
 void TemporalPass::record_converged(VkCommandBuffer cmd, const Accumulation& accumulation,
-                                    const gpu::TemporalPush& push) const {
+                                    const gpu::TemporalPush& push, const TileMask& region) const {
   if (push.image_size != size_) throw Error("TemporalPass: resize to the image first");
+  if (region.image_size() != size_) throw Error("TemporalPass: the converged test's tiles must be of this image");
+  const std::vector<uint32_t> tested = region.indices();
+  std::memcpy(tested_tiles_.mapped(), tested.data(), tested.size() * sizeof(uint32_t));
   // (the lists this frame's shading ran over are cleared after it)
   vk::memory_barrier(cmd, VK_ACCESS_SHADER_WRITE_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
                      VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT,
@@ -190,9 +195,10 @@ void TemporalPass::record_converged(VkCommandBuffer cmd, const Accumulation& acc
   converged_.bind(cmd);
   converged_.push_descriptors(
       cmd, {vk::Resource::storage_image(accumulation.color), vk::Resource::storage_image(accumulation.passes),
-            vk::Resource::storage_image(accumulation.moments), vk::Resource::storage_buffer(tiles_)});
+            vk::Resource::storage_image(accumulation.moments), vk::Resource::storage_buffer(tiles_),
+            vk::Resource::storage_buffer(tested_tiles_)});
   converged_.push_constants(cmd, push);
-  vkCmdDispatch(cmd, vk::group_count(size_.x, int(gpu::kTemporalTile)), vk::group_count(size_.y, int(gpu::kTemporalTile)), 1);
+  if (!tested.empty()) vkCmdDispatch(cmd, uint32_t(tested.size()), 1, 1);
   list_quad_groups(cmd, push, /*short_history_count=*/false);
 }
 

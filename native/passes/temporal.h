@@ -72,13 +72,14 @@ class TemporalPass {
   void record_keep(VkCommandBuffer cmd, const GBufferPass& gbuffer, const TemporalImages& images,
                    const vk::Buffer& frame, const vk::Buffer& lights, gpu::TemporalPush push,
                    const TileMask& region) const;
-  // Adaptive sampling, after a frame (shaders/temporal_converged.comp): the
-  // pixels of `accumulation` with history_samples samples, or
-  // push.min_samples that agree within push.noise_threshold, have converged
-  // (counted as sampled in full from then on); the tiles holding any other
-  // are listed for the next frame's shading (kept_tiles).
-  void record_converged(VkCommandBuffer cmd, const Accumulation& accumulation,
-                        const gpu::TemporalPush& push) const;
+  // Adaptive sampling, after a frame (shaders/temporal_converged.comp): of
+  // the tiles `region` (those the frame shaded: a tile left out before
+  // stays so), those whose pixels' samples in `accumulation` agree within
+  // push.noise_threshold have converged (their pixels counted as sampled in
+  // full from then on); the others are listed for the next frame's shading
+  // (kept_tiles).
+  void record_converged(VkCommandBuffer cmd, const Accumulation& accumulation, const gpu::TemporalPush& push,
+                        const TileMask& region) const;
   // The tiles holding the pixels the last keep pass did not keep (none if
   // it kept them all), or the last converged test found short of samples;
   // read once its commands have run.
@@ -113,6 +114,7 @@ class TemporalPass {
   vk::Buffer tiles_;  // see gpu::kTemporalTile
   vk::Buffer unsettled_;  // the listed pixel tiles' flags (host-visible: the next step's or frame's region)
   vk::Buffer keep_tiles_;  // the tiles the keep pass runs over (host-visible: written as it is recorded)
+  vk::Buffer tested_tiles_;  // ... and the converged test (likewise)
 };
 
 }  // namespace rtsdf

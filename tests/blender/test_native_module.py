@@ -166,6 +166,10 @@ class NativeModuleInBlender(unittest.TestCase):
         self.assert_panel_range_is_the_native_one("short_history_rays", (1, 16), (0, 17),
                                                   "short_history_rays must be 1", exact_rays=4)
 
+    def test_noise_thresholds_outside_the_panels_range_are_refused(self):
+        self.assert_panel_range_is_the_native_one("noise_threshold", (0.0, 1.0), (-0.01, 1.5),
+                                                  "noise_threshold must be 0")
+
     def test_bad_input_raises(self):
         with self.assertRaises(rtsdf_native.Error):
             rtsdf_native.coarse_sdf(np.zeros((3, 3), np.float32), np.zeros((0, 3), np.uint32), 32, 0.5)

@@ -208,6 +208,7 @@ def steps():
     moving.location.x += 0.8
     started = time.perf_counter()
     yield from wait_converged(started)
+    results["converged_after_move_s"] = time.perf_counter() - started
     after = compare(screenshot("viewport_after.png"), cycles_after, "after")
     results["moved_shadow_iou"] = float((before & after).sum() / max((before | after).sum(), 1))
     moving.location = start_location

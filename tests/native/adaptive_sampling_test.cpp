@@ -8,32 +8,18 @@
 #include "reference/shapes.h"
 #include "renderer.h"
 #include "viewport.h"
+#include "top_view.h"
 #include "vulkan_test.h"
 
 namespace rtsdf {
 namespace {
 
+using testing::tilted_sun;
+using testing::top_view;
+
 constexpr int kSize = 64;  // pixels over the 4 x 4 top view: 8 x 8 tiles
 
 class AdaptiveSamplingTest : public testing::VulkanTest {};
-
-Camera top_view() {  // orthographic, straight down, x and y in [-2, 2]
-  Camera camera;
-  camera.world_to_view = glm::lookAt(glm::vec3(0, 0, 10), glm::vec3(0, 0, 0), glm::vec3(0, 1, 0));
-  camera.projection = glm::orthoRH_NO(-2.0f, 2.0f, -2.0f, 2.0f, 0.1f, 20.0f);
-  camera.orthographic = true;
-  return camera;
-}
-
-// A sun tilted 45 degrees, 5 degrees wide: a cube 0.5 above the ground casts a soft shadow.
-Light tilted_sun() {
-  Light sun;
-  sun.type = LightType::Sun;
-  sun.direction = {float(std::sqrt(0.5)), 0, -float(std::sqrt(0.5))};
-  sun.energy = 3.0f;
-  sun.sun_angle = float(5.0 * M_PI / 180.0);
-  return sun;
-}
 
 Scene ground(bool with_cube) {
   Scene scene;

@@ -10,10 +10,13 @@
 #include "analytic_shadow.h"
 #include "reference/shapes.h"
 #include "renderer.h"
+#include "top_view.h"
 #include "vulkan_test.h"
 
 namespace rtsdf {
 namespace {
+
+using testing::top_view;
 
 using testing::Profile;
 using testing::profile;
@@ -33,14 +36,6 @@ Scene sphere_over_ground() {
   scene.meshes = {reference::uv_sphere({0, 0, kHeight}, kRadius, 48), reference::sheet({-20, -20}, {20, 20}, 0.0f)};
   scene.instances = {{0, glm::mat4(1.0f), glm::vec3(0.8f)}, {1, glm::mat4(1.0f), glm::vec3(0.8f)}};
   return scene;
-}
-
-Camera top_view() {  // orthographic, straight down, x and y in [-2, 2]
-  Camera camera;
-  camera.world_to_view = glm::lookAt(glm::vec3(0, 0, 10), glm::vec3(0, 0, 0), glm::vec3(0, 1, 0));
-  camera.projection = glm::orthoRH_NO(-2.0f, 2.0f, -2.0f, 2.0f, 0.1f, 20.0f);
-  camera.orthographic = true;
-  return camera;
 }
 
 // Settings small enough for a test: coarser grids, few samples.
