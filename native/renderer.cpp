@@ -250,7 +250,7 @@ Renderer::Renderer(const vk::Context& context, std::shared_ptr<FieldCache> field
       temporal_(context),
       object_fields_(context, std::move(field_cache)),
       world_field_(context),
-      shading_timer_(context, 8),  // (begin, gbuffer, keep, quad, shade, resolve)
+      shading_timer_(context, 8),  // (begin, gbuffer, keep, quad, shade, resolve, converged)
       march_(context) {}
 
 void Renderer::validate(int width, int height, const RenderSettings& settings) const {
@@ -616,9 +616,8 @@ void Renderer::add_frame() {
   if (!scene_) throw Error("add_frame: call begin() first");
   if (all_converged_ && !refining()) return;  // (every pixel has converged: no frame is left to draw)
   const Clock::time_point start = Clock::now();
-  auto due = [&](int done) { return visibility_due(done); };
   stats_.last_frame_traced_texels = 0;
-  if (uses_fine_sdf(settings_.shadow_method) && due(fine_updates_)) {
+  if (uses_fine_sdf(settings_.shadow_method) && visibility_due(fine_updates_)) {
     fine_.update(*scene_, coarse_, fine_grid_, fine_settings(), changed_region_ ? &*changed_region_ : nullptr);
     pack_world_field(&fine_.distance(), fine_settings().band_world(coarse_grid_.voxel_size));
     update_field_memory_stats(settings_.shadow_method);
@@ -643,12 +642,20 @@ void Renderer::add_frame() {
     shadow_maps_->setup(*scene_, moved, shadow_map_camera_.world_to_view, shadow_map_camera_.projection,
                         settings_.shadow_map_size, kJitteredMapFilterTexels);
     context_.submit_and_wait([&](VkCommandBuffer cmd) { shadow_maps_->record(cmd, *scene_); });
-  } else if (uses_shadow_maps(settings_.shadow_method) && due(shadow_map_renders_)) {
+  } else if (uses_shadow_maps(settings_.shadow_method) && visibility_due(shadow_map_renders_)) {
     context_.submit_and_wait([&](VkCommandBuffer cmd) { shadow_maps_->record(cmd, *scene_); });
     shadow_map_renders_++;
   }
   timings_.shadow_map_ms += ms_since(maps);
 
+  if (listed_for_next_frame_ && listed_.is_empty()) {
+    // (a field refines, every pixel has settled: nothing is left to shade)
+    stats_.drawn_share = 0.0;
+    timings_.total_ms += ms_since(start);
+    frame_++;
+    sequence_++;
+    return;
+  }
   const Clock::time_point shading = Clock::now();
   // Sub-pixel jitter (Halton 2,3 through the pixel filter) for anti-aliasing, averaged over frames; but
   // a playback frame of the viewport is drawn at the pixel centres: the first after objects moved under a

@@ -104,6 +104,34 @@ TEST_F(AdaptiveSamplingTest, AViewportWhosePixelsAllAgreeConvergesAtHalfItsSampl
   EXPECT_FALSE(viewport.draw(view, settings).advanced) << "a converged viewport does no work";
 }
 
+// A move that shows nowhere on screen (a cube off the view, its shadow
+// falling further off): its playback step keeps every pixel, and the
+// viewport has converged after that one frame.
+TEST_F(AdaptiveSamplingTest, AMoveThatShowsNowhereConvergesInOneStep) {
+  Viewport viewport(context(), nullptr);
+  viewport.sync(ground(/*with_cube=*/true));
+  auto cube_at = [&](float x) {
+    viewport.set_transforms({glm::mat4(1.0f), glm::translate(glm::mat4(1.0f), glm::vec3(x, 0, 0))});
+  };
+  cube_at(12.0f);
+  View view;
+  view.camera = top_view();
+  view.lights = {tilted_sun()};
+  view.ambient = glm::vec3(0.1f);
+  view.width = view.height = kSize;
+  RenderSettings settings = small_fields(0.03f);
+  settings.temporal_reuse = true;
+  ViewportFrame frame;
+  for (int draw = 0; draw < 40 && !frame.converged; ++draw) frame = viewport.draw(view, settings);
+  ASSERT_TRUE(frame.converged);
+  cube_at(13.0f);
+  frame = viewport.draw(view, settings);
+  EXPECT_TRUE(frame.advanced);
+  EXPECT_TRUE(frame.converged) << "every pixel kept from history";
+  EXPECT_FALSE(viewport.draw(view, settings).advanced);
+  EXPECT_EQ(context().validation_message_count(), 0);
+}
+
 TEST_F(AdaptiveSamplingTest, ANoiseThresholdOutOfRangeIsAnError) {
   GpuScene gpu(context(), ground(false));
   Renderer renderer(context());
