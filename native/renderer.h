@@ -330,7 +330,8 @@ class Renderer {
   // every frame), `done` of them done.
   bool visibility_due(int done) const;
   // Whether the frames from the next on see the visibility as this one did:
-  // no field refines or updates, and no shadow map is rendered again.
+  // no field refines or updates, and no shadow map is rendered again (the
+  // jittered maps of csm_jitter never are). Adaptive sampling waits for it.
   bool visibility_settled() const;
   // The temporal passes' constants for this accumulation's settings and lights.
   gpu::TemporalPush temporal_push() const;

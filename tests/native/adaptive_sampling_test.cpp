@@ -87,6 +87,17 @@ TEST_F(AdaptiveSamplingTest, AnImageWhosePixelsAllAgreeEndsAtHalfItsSamples) {
   for (float samples : adaptive.samples) ASSERT_EQ(samples, 16.0f);
 }
 
+// csm_jitter's maps move over the light every frame: a pixel its first
+// maps all saw lit may lie in the penumbra of the light's points to come.
+TEST_F(AdaptiveSamplingTest, JitteredShadowMapsTakeEverySample) {
+  RenderSettings settings = small_fields(0.03f);
+  settings.shadow_method = ShadowMethod::CsmJitter;
+  settings.shadow_map_size = 256;
+  const RenderOutput out = render_top_view(context(), ground(/*with_cube=*/true), settings);
+  EXPECT_EQ(out.samples_done, 16);
+  EXPECT_DOUBLE_EQ(out.stats.sampled_share, 1.0);
+}
+
 TEST_F(AdaptiveSamplingTest, AViewportWhosePixelsAllAgreeConvergesAtHalfItsSamples) {
   Viewport viewport(context(), nullptr);
   viewport.sync(ground(/*with_cube=*/false));
