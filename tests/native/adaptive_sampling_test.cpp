@@ -40,10 +40,20 @@ RenderSettings small_fields(float noise_threshold) {
   return settings;
 }
 
+View top_view_under_the_sun() {
+  View view;
+  view.camera = top_view();
+  view.lights = {tilted_sun()};
+  view.ambient = glm::vec3(0.1f);
+  view.width = view.height = kSize;
+  return view;
+}
+
 RenderOutput render_top_view(const vk::Context& context, const Scene& scene, const RenderSettings& settings) {
   GpuScene gpu(context, scene);
   Renderer renderer(context);
-  return renderer.render(gpu, top_view(), {tilted_sun()}, glm::vec3(0.1f), kSize, kSize, settings);
+  const View view = top_view_under_the_sun();
+  return renderer.render(gpu, view.camera, view.lights, view.ambient, view.width, view.height, settings);
 }
 
 TEST_F(AdaptiveSamplingTest, TilesWhosePixelsAgreeStopAndThePenumbraTakesEverySample) {
@@ -101,11 +111,7 @@ TEST_F(AdaptiveSamplingTest, JitteredShadowMapsTakeEverySample) {
 TEST_F(AdaptiveSamplingTest, AViewportWhosePixelsAllAgreeConvergesAtHalfItsSamples) {
   Viewport viewport(context(), nullptr);
   viewport.sync(ground(/*with_cube=*/false));
-  View view;
-  view.camera = top_view();
-  view.lights = {tilted_sun()};
-  view.ambient = glm::vec3(0.1f);
-  view.width = view.height = kSize;
+  const View view = top_view_under_the_sun();
   RenderSettings settings = small_fields(0.03f);
   int draws = 0;
   ViewportFrame frame;
@@ -125,11 +131,7 @@ TEST_F(AdaptiveSamplingTest, AMoveThatShowsNowhereConvergesInOneStep) {
     viewport.set_transforms({glm::mat4(1.0f), glm::translate(glm::mat4(1.0f), glm::vec3(x, 0, 0))});
   };
   cube_at(12.0f);
-  View view;
-  view.camera = top_view();
-  view.lights = {tilted_sun()};
-  view.ambient = glm::vec3(0.1f);
-  view.width = view.height = kSize;
+  const View view = top_view_under_the_sun();
   RenderSettings settings = small_fields(0.03f);
   settings.temporal_reuse = true;
   ViewportFrame frame;
