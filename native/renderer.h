@@ -244,7 +244,7 @@ struct RenderOutput {
   double effective_samples = 0.0;
   RenderTimings timings;
   RenderStats stats;
-  int samples_done = 0;  // fewer than asked when stopped through Progress
+  int samples_done = 0;  // fewer than asked when stopped through Progress, or when every tile converged
 };
 
 // The offset from the pixel centre (in pixels, along one axis) left of which a

@@ -29,7 +29,7 @@ struct View {
 struct ViewportFrame {
   RenderOutput image;  // the accumulation so far (with the passes where temporal reuse is on)
   bool advanced = false;   // a frame was added by this draw
-  bool converged = false;  // all samples in and the fields refined: further draws do nothing
+  bool converged = false;  // all samples in (or every tile converged) and the fields refined: further draws do nothing
   // The samples this frame's pixels stand for on average (with temporal reuse, history's too).
   double effective_samples = 0.0;
   // Wall time of the draw: starting afresh (the SDFs rebuilt after a change), the frame, the read-back.
