@@ -594,7 +594,7 @@ void Renderer::begin(GpuScene& scene, const Camera& camera, const std::vector<Li
   shadow_map_renders_ = 0;
   history_frames_ = has_history_ ? frame_ : 0;
   frame_ = 0;
-  listed_for_next_frame_ = all_converged_ = false;
+  listed_.reset();
   stats_.sampled_share = 0.0;
   if (!has_history_) sequence_ = 0;
   timings_.total_ms = ms_since(start);
@@ -618,7 +618,7 @@ bool Renderer::visibility_settled() const {
 
 void Renderer::add_frame() {
   if (!scene_) throw Error("add_frame: call begin() first");
-  if (all_converged_ && !refining()) return;  // (every pixel has converged: no frame is left to draw)
+  if (all_converged() && !refining()) return;  // (no frame is left to draw)
   const Clock::time_point start = Clock::now();
   stats_.last_frame_traced_texels = 0;
   if (uses_fine_sdf(settings_.shadow_method) && visibility_due(fine_updates_)) {
@@ -652,7 +652,7 @@ void Renderer::add_frame() {
   }
   timings_.shadow_map_ms += ms_since(maps);
 
-  if (listed_for_next_frame_ && listed_.is_empty()) {
+  if (all_converged()) {
     // (a field refines, every pixel has settled: nothing is left to shade)
     stats_.drawn_share = 0.0;
     timings_.total_ms += ms_since(start);
@@ -697,7 +697,7 @@ void Renderer::add_frame() {
   const bool resolves = has_history_ && frame_ == 0;
   const bool keeps = resolves && same_lighting_ && camera_stayed_;
   // After a keep pass or a converged test in the frame before: the tiles it listed alone.
-  const bool listed_before = listed_for_next_frame_ && !resolves;
+  const bool listed_before = listed_.has_value();  // (none in a first frame: begin() dropped it)
   push_.listed_tiles = keeps || listed_before ? 1u : 0u;
   // Adaptive sampling: the converged test after this frame, from the frame
   // that completes half the samples on (every pixel has taken those), and at
@@ -732,8 +732,8 @@ void Renderer::add_frame() {
   // The frames after a keep pass or a converged test: the tiles they listed
   // (a tile left out has settled, and stays so in this accumulation).
   if (listed_before) {
-    frame_region = listed_;
-    drawn = temporal_.drawn_region(listed_);
+    frame_region = *listed_;
+    drawn = temporal_.drawn_region(*listed_);
   }
   stats_.drawn_share = frame_region.share();
   stats_.sampled_share += stats_.drawn_share / double(settings_.samples);
@@ -776,14 +776,11 @@ void Renderer::add_frame() {
   // until a converged test finds which still are.
   if (keeps || tests_convergence) {
     listed_ = temporal_.unsettled_tiles();
-    all_converged_ = listed_.is_empty();
-  }
-  listed_for_next_frame_ = keeps || tests_convergence || listed_before;
-  if (keeps || tests_convergence)
     // (and the tiles left of and above them: history is read a texel right and below too)
-    unsettled_ = listed_.spread([](int x) { return glm::ivec2(x - 1, x); }, [](int y) { return glm::ivec2(y - 1, y); });
-  else if (frame_ == 0)
+    unsettled_ = listed_->spread([](int x) { return glm::ivec2(x - 1, x); }, [](int y) { return glm::ivec2(y - 1, y); });
+  } else if (frame_ == 0) {
     unsettled_ = TileMask::whole(size);
+  }
   if (frame_ + 1 >= temporal_push().history_samples) unsettled_ = TileMask(size);
   drawn_frame_ = frame_data_;
   timings_.shade_ms += ms_since(shading);
@@ -861,7 +858,7 @@ RenderOutput Renderer::render(GpuScene& scene, const Camera& camera, const std::
                               const Progress& progress) {
   const Clock::time_point start = Clock::now();
   begin(scene, camera, lights, ambient, width, height, settings, /*scene_changed=*/true);
-  for (int sample = 0; sample < settings.samples && !all_converged_; ++sample) {
+  for (int sample = 0; sample < settings.samples && !all_converged(); ++sample) {
     add_frame();
     if (progress && !progress(sample + 1, settings.samples)) break;
   }

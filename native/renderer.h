@@ -280,7 +280,7 @@ class Renderer {
   int frames() const { return frame_; }
   // Whether the accumulation is done: its samples drawn, or every tile
   // converged (RenderSettings::noise_threshold), and no field refining.
-  bool converged() const { return !refining() && (frame_ >= settings_.samples || all_converged_); }
+  bool converged() const { return !refining() && (frame_ >= settings_.samples || all_converged()); }
   // Whether some object-space field is still refining: a viewport keeps
   // drawing frames until it is not, even with its samples in.
   bool refining() const {
@@ -398,12 +398,11 @@ class Renderer {
   // keep, until the frames after it have drawn every pixel's samples.
   TileMask change_on_screen_;
   TileMask unsettled_;
-  // The last keep pass or converged test listed the tiles still short of
-  // samples (listed_): the frames after it shade those alone; or it found
-  // none, and the accumulation is done.
-  TileMask listed_;
-  bool listed_for_next_frame_ = false;
-  bool all_converged_ = false;
+  // The tiles the last keep pass or converged test of this accumulation
+  // listed as still short of samples: the frames after it shade those
+  // alone; none listed, the accumulation is done.
+  std::optional<TileMask> listed_;
+  bool all_converged() const { return listed_ && listed_->is_empty(); }
 };
 
 }  // namespace rtsdf
