@@ -54,10 +54,13 @@ void TemporalPass::resize(glm::ivec2 size) {
                       VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT |
                           VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
                       vk::Buffer::Access::DeviceOnly);
-  keep_tiles_ = vk::Buffer(context_, std::max<size_t>(pixel_tiles(size), 1) * sizeof(uint32_t),
-                           VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, vk::Buffer::Access::HostVisible);
-  tested_tiles_ = vk::Buffer(context_, std::max<size_t>(pixel_tiles(size), 1) * sizeof(uint32_t),
-                             VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, vk::Buffer::Access::HostVisible);
+  // (a tile index per work group, written as a pass is recorded)
+  auto tile_indices = [&] {
+    return vk::Buffer(context_, std::max<size_t>(pixel_tiles(size), 1) * sizeof(uint32_t),
+                      VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, vk::Buffer::Access::HostVisible);
+  };
+  keep_tiles_ = tile_indices();
+  tested_tiles_ = tile_indices();
   unsettled_ = vk::Buffer(context_, (pixel_tiles(size) + 1) * sizeof(uint32_t),
                           VK_BUFFER_USAGE_TRANSFER_DST_BIT, vk::Buffer::Access::HostVisible);
   size_ = size;
