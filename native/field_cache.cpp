@@ -1,40 +1,46 @@
 #include "field_cache.h"
 
+#include <cstdio>
 #include <cstring>
+#include <type_traits>
+
+#include "field_store.h"
 
 #include "packed_field.h"
 
 namespace rtsdf {
 
-namespace {
-
-// FNV-1a over raw bytes: the same floats give the same digest, and any changed bit another.
-uint64_t fnv1a(const void* data, size_t size, uint64_t hash) {
+uint64_t digest_bytes(const void* data, size_t size, uint64_t hash) {
   const auto* bytes = static_cast<const unsigned char*>(data);
   for (size_t i = 0; i < size; ++i) hash = (hash ^ bytes[i]) * 0x100000001b3ull;
   return hash;
 }
 
-}  // namespace
-
-bool FieldKey::operator==(const FieldKey& other) const {
-  return geometry == other.geometry && coarse_resolution == other.coarse_resolution &&
-         fine_resolution == other.fine_resolution && beta == other.beta && updates == other.updates &&
-         fine.trace_band == other.fine.trace_band && fine.decay == other.fine.decay &&
-         fine.rays_per_texel == other.fine.rays_per_texel && fine.interleave == other.fine.interleave &&
-         fine.trace_everywhere == other.fine.trace_everywhere && fine.skip_converged == other.fine.skip_converged;
+std::string FieldKey::describe() const {
+  std::string text;
+  auto add = [&text](auto value) {
+    char item[40];
+    if constexpr (std::is_floating_point_v<decltype(value)>)
+      std::snprintf(item, sizeof item, "%a ", double(value));  // (hexadecimal: every bit)
+    else
+      std::snprintf(item, sizeof item, "%llu ", static_cast<unsigned long long>(value));
+    text += item;
+  };
+  std::apply([&add](const auto&... member) { (add(member), ...); }, members());
+  text.pop_back();
+  return text;
 }
 
 uint64_t topology_digest(size_t vertex_count, const std::vector<uint32_t>& indices) {
   const uint64_t counts[2] = {vertex_count, indices.size()};
-  const uint64_t hash = fnv1a(counts, sizeof(counts), 0xcbf29ce484222325ull);
-  return fnv1a(indices.data(), indices.size() * sizeof(uint32_t), hash);
+  const uint64_t hash = digest_bytes(counts, sizeof(counts));
+  return digest_bytes(indices.data(), indices.size() * sizeof(uint32_t), hash);
 }
 
 uint64_t topology_digest(const Mesh& mesh) { return topology_digest(mesh.positions.size(), mesh.indices); }
 
 uint64_t geometry_digest(const Mesh& mesh, uint64_t topology) {
-  return fnv1a(mesh.positions.data(), mesh.positions.size() * sizeof(glm::vec3), topology);
+  return digest_bytes(mesh.positions.data(), mesh.positions.size() * sizeof(glm::vec3), topology);
 }
 
 FieldCache::FieldCache(size_t capacity_bytes) : capacity_(capacity_bytes) {}
@@ -50,8 +56,17 @@ std::optional<CachedField> FieldCache::find(const FieldKey& key) {
 }
 
 void FieldCache::insert(const FieldKey& key, const CachedField& field) {
+  std::shared_ptr<FieldStore> store;
+  {
+    std::lock_guard lock(mutex_);
+    keep(key, field);
+    store = store_;
+  }
+  if (store) store->save(key, field);
+}
+
+void FieldCache::keep(const FieldKey& key, const CachedField& field) {
   const size_t bytes = field.packed->bytes();
-  std::lock_guard lock(mutex_);
   for (auto it = entries_.begin(); it != entries_.end(); ++it)
     if (it->key == key) {
       bytes_ -= it->bytes;
@@ -62,6 +77,28 @@ void FieldCache::insert(const FieldKey& key, const CachedField& field) {
   evict_to(capacity_ - bytes);
   entries_.push_front({key, field, bytes});
   bytes_ += bytes;
+}
+
+void FieldCache::set_store(std::shared_ptr<FieldStore> store) {
+  std::lock_guard lock(mutex_);
+  store_ = std::move(store);
+}
+
+std::shared_ptr<FieldStore> FieldCache::store() const {
+  std::lock_guard lock(mutex_);
+  return store_;
+}
+
+std::optional<CachedField> FieldCache::load(const FieldKey& key, const vk::Context& context,
+                                            std::shared_ptr<const FieldPackPass> pass) {
+  const std::shared_ptr<FieldStore> from = store();
+  if (!from) return std::nullopt;
+  std::optional<CachedField> field = from->load(key, context, std::move(pass));
+  if (field) {
+    std::lock_guard lock(mutex_);
+    keep(key, *field);
+  }
+  return field;
 }
 
 void FieldCache::evict_to(size_t bytes) {

@@ -10,6 +10,8 @@
 #include <memory>
 #include <mutex>
 #include <optional>
+#include <string>
+#include <tuple>
 #include <unordered_map>
 
 #include "grid.h"
@@ -18,6 +20,7 @@
 
 namespace rtsdf {
 
+class FieldPackPass;
 class PackedField;
 
 // What a mesh's field is made from: its geometry (a digest of its positions
@@ -29,8 +32,18 @@ struct FieldKey {
   FineTraceSettings fine;
   int updates = 0;  // fine updates it had
 
-  bool operator==(const FieldKey& other) const;
+  // Every member above, for comparing and for describing (one list for both).
+  auto members() const {
+    return std::tie(geometry, coarse_resolution, fine_resolution, beta, updates, fine.trace_band, fine.decay,
+                    fine.rays_per_texel, fine.interleave, fine.trace_everywhere, fine.skip_converged);
+  }
+  bool operator==(const FieldKey& other) const { return members() == other.members(); }
+  // The members as text, floats to the bit (a FieldStore file names its key with it).
+  std::string describe() const;
 };
+
+// FNV-1a over raw bytes: the same bytes give the same digest, and any changed bit another.
+uint64_t digest_bytes(const void* data, size_t size, uint64_t seed = 0xcbf29ce484222325ull);
 
 // A digest of a mesh's triangles alone (their vertex indices, and how many
 // vertices): meshes that share it may be copies whose vertices differ by
@@ -47,14 +60,26 @@ struct CachedField {
   GridSpec coarse_grid, fine_grid;
 };
 
+class FieldStore;
+
 class FieldCache {
  public:
   // Keeps at most `capacity_bytes` of fields; the least recently used go first.
   explicit FieldCache(size_t capacity_bytes);
 
   std::optional<CachedField> find(const FieldKey& key);
-  // A refined field; not kept when larger than the capacity.
+  // A refined field; not kept when larger than the capacity. Saved in the
+  // store too, when there is one.
   void insert(const FieldKey& key, const CachedField& field);
+
+  // Fields kept on disk between processes (null: none), consulted where
+  // find() misses: a field refined once is never traced again, as Unreal
+  // keeps its meshes' distance fields in its derived data cache.
+  void set_store(std::shared_ptr<FieldStore> store);
+  std::shared_ptr<FieldStore> store() const;
+  // The field from the store, kept here too; none without a store or a file.
+  std::optional<CachedField> load(const FieldKey& key, const vk::Context& context,
+                                  std::shared_ptr<const FieldPackPass> pass);
   // A geometry's feature size (mesh_detail.h), by its digest: its probe
   // builds the mesh's BVH, which a renderer that takes every field from here
   // and casts no exact ray would build for nothing (the 2CylinderEngine's
@@ -75,7 +100,11 @@ class FieldCache {
   };
   void evict_to(size_t bytes);  // (with the lock held)
 
+  // (with the lock held) the field as the most recently used
+  void keep(const FieldKey& key, const CachedField& field);
+
   mutable std::mutex mutex_;  // a viewport and an F12 render may run on two threads
+  std::shared_ptr<FieldStore> store_;
   const size_t capacity_;
   size_t bytes_ = 0;
   std::list<Entry> entries_;  // most recently used first

@@ -185,7 +185,8 @@ void ObjectFields::rebuild(GpuScene& scene, Field& field, const Bounds& bounds, 
 
 bool ObjectFields::reuse(GpuScene& scene, Field& field, const FieldKey& key) {
   if (!cache_ || (settings_.keep_history && field.deforms)) return false;
-  const std::optional<CachedField> cached = cache_->find(key);
+  std::optional<CachedField> cached = cache_->find(key);
+  if (!cached && (cached = cache_->load(key, context_, pack_pass_))) stats_.loaded++;
   if (!cached) return false;
   // (empty SDFs: a later deformation rebuilds them)
   if (!field.coarse) field.coarse = std::make_unique<CoarseSdf>(context_, coarse_passes_);

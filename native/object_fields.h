@@ -18,7 +18,8 @@
 // - Each mesh's voxels come from its own size, under a memory budget.
 // - A refined field of a mesh that does not deform goes into the device's
 //   FieldCache (when given), and a later renderer's mesh of the same
-//   geometry and settings takes it instead of building its own.
+//   geometry and settings takes it instead of building its own, as a
+//   later process does from the cache's FieldStore (on disk) when it has one.
 #include <cstdint>
 #include <map>
 #include <memory>
@@ -83,6 +84,7 @@ struct ObjectFieldStats {
   int placed = 0;               // instances placed (sharing those fields)
   int regenerated = 0;          // fields (re)built by the last sync
   int reused = 0;               // fields the last sync took refined from the FieldCache
+  int loaded = 0;               // ... of which its FieldStore read from disk
   int refined = 0;              // fields updated by the last refine
   uint64_t traced_texels = 0;   // texels traced by the last refine
   size_t bytes = 0;             // device memory of the fields now: packed, and the SDFs of those not freed

@@ -57,25 +57,37 @@ void PackedField::set_layout(const GridSpec& grid, const GridSpec& far_grid, con
   margin_ = std::max(0.0f, std::min(margin.x, std::min(margin.y, margin.z)));
 
   const bool same = words_ && grid.dims == grid_.dims && far_grid.dims == far_grid_.dims;
-  grid_ = grid;
-  far_grid_ = far_grid;
-  if (same) return;
-  bricks_ = bricks_of(grid.dims);
+  if (same) {
+    grid_ = grid;
+    far_grid_ = far_grid;
+    return;
+  }
+  lay_out_grids(grid, far_grid);
   stored_bricks_ = vk::Buffer(context_, (4 + size_t(brick_count())) * sizeof(uint32_t),
                               VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT |
                                   VK_BUFFER_USAGE_TRANSFER_DST_BIT,
                               vk::Buffer::Access::DeviceOnly);
-  far_row_ = far_grid.dims.x + far_grid.dims.x % 2;
-  far_first_ = gpu::kBrickTableFirst + brick_count();
-  bricks_first_ = far_first_ + uint32_t(size_t(far_row_) * far_grid.dims.y * far_grid.dims.z / 2);
   // No room for bricks yet: the first pack counts them, then makes room.
   stored_ = 0;
   allocate(0);
 }
 
-void PackedField::allocate(uint32_t capacity) {
+void PackedField::lay_out_grids(const GridSpec& grid, const GridSpec& far_grid) {
+  grid_ = grid;
+  far_grid_ = far_grid;
+  bricks_ = bricks_of(grid.dims);
+  far_row_ = far_grid.dims.x + far_grid.dims.x % 2;
+  far_first_ = gpu::kBrickTableFirst + brick_count();
+  bricks_first_ = far_first_ + uint32_t(size_t(far_row_) * far_grid.dims.y * far_grid.dims.z / 2);
+}
+
+size_t PackedField::word_count(uint32_t capacity) const {
   // (and a word to spare: the march reads texels in pairs of words)
-  const size_t words = size_t(bricks_first_) + size_t(capacity) * gpu::kBrickWords + 1;
+  return size_t(bricks_first_) + size_t(capacity) * gpu::kBrickWords + 1;
+}
+
+void PackedField::allocate(uint32_t capacity) {
+  const size_t words = word_count(capacity);
   if (words > size_t(UINT32_MAX)) throw Error("a distance field holds more than 2^32 words: lower the resolution");
   const size_t bytes = words * sizeof(uint32_t);
   if (bytes > context_.device_local_heap_bytes() / 2)
@@ -164,7 +176,7 @@ gpu::FieldInstance PackedField::instance_record() const {
   return record;
 }
 
-std::vector<float> PackedField::read_texels() const {
+std::vector<uint32_t> PackedField::read_words() const {
   if (!words_) return {};
   vk::Buffer readback(context_, words_.size(), VK_BUFFER_USAGE_TRANSFER_DST_BIT, vk::Buffer::Access::HostVisible);
   context_.submit_and_wait([&](VkCommandBuffer cmd) {
@@ -173,7 +185,42 @@ std::vector<float> PackedField::read_texels() const {
     vk::memory_barrier(cmd, VK_ACCESS_TRANSFER_WRITE_BIT, VK_ACCESS_HOST_READ_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT,
                        VK_PIPELINE_STAGE_HOST_BIT);
   });
-  const uint32_t* words = static_cast<const uint32_t*>(readback.mapped());
+  const uint32_t* first = static_cast<const uint32_t*>(readback.mapped());
+  return std::vector<uint32_t>(first, first + words_.size() / sizeof(uint32_t));
+}
+
+PackedField::Saved PackedField::save() const {
+  if (!words_) throw Error("PackedField: only a laid-out, packed field can be saved");
+  return {grid_, far_grid_, box_lo_, box_hi_, margin_, capacity_, stored_, read_words()};
+}
+
+std::shared_ptr<PackedField> PackedField::load(const vk::Context& context, std::shared_ptr<const FieldPackPass> pass,
+                                               const Saved& saved) {
+  auto field = std::make_shared<PackedField>(context, std::move(pass));
+  const glm::ivec3 dims = saved.grid.dims, far_dims = saved.far_grid.dims;
+  if (glm::any(glm::lessThan(dims, glm::ivec3(1))) || glm::any(glm::lessThan(far_dims, glm::ivec3(1))) ||
+      glm::any(glm::greaterThan(dims, glm::ivec3(4096))) || glm::any(glm::greaterThan(far_dims, dims)))
+    throw Error("PackedField: a saved field's grids are out of range");
+  field->lay_out_grids(saved.grid, saved.far_grid);
+  if (saved.stored > saved.capacity || saved.capacity > field->brick_count() ||
+      saved.words.size() != field->word_count(saved.capacity))
+    throw Error("PackedField: a saved field's words do not fit its layout");
+  field->box_lo_ = saved.box_lo;
+  field->box_hi_ = saved.box_hi;
+  field->margin_ = saved.margin;
+  field->stored_ = saved.stored;
+  field->capacity_ = saved.capacity;
+  field->words_ = vk::upload_buffer(context, saved.words.data(), saved.words.size() * sizeof(uint32_t),
+                                    VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT |
+                                        VK_BUFFER_USAGE_TRANSFER_SRC_BIT);
+  field->generation_++;
+  return field;
+}
+
+std::vector<float> PackedField::read_texels() const {
+  if (!words_) return {};
+  const std::vector<uint32_t> all_words = read_words();
+  const uint32_t* words = all_words.data();
   const float far_scale = grid_.voxel_size / far_grid_.voxel_size;
   std::vector<float> texels(grid_.voxel_count());
   for (int z = 0; z < grid_.dims.z; ++z)

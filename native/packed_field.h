@@ -74,7 +74,25 @@ class PackedField {
   // brick where one is stored, else from the far field. For tools and tests.
   std::vector<float> read_texels() const;
 
+  // A packed field as host data, to be kept on disk (FieldStore) and laid
+  // out again as it was, in another process: the words hold no addresses.
+  struct Saved {
+    GridSpec grid, far_grid;
+    glm::vec3 box_lo{0.0f}, box_hi{0.0f};
+    float margin = 0.0f;
+    uint32_t capacity = 0, stored = 0;
+    std::vector<uint32_t> words;
+  };
+  Saved save() const;
+  // A field as `saved` was, ready to be marched (and never packed: a saved
+  // field was refined). Throws Error where the words do not fit the layout.
+  static std::shared_ptr<PackedField> load(const vk::Context& context, std::shared_ptr<const FieldPackPass> pass,
+                                           const Saved& saved);
+
  private:
+  void lay_out_grids(const GridSpec& grid, const GridSpec& far_grid);
+  size_t word_count(uint32_t capacity) const;
+  std::vector<uint32_t> read_words() const;
   void allocate(uint32_t capacity);
 
   const vk::Context& context_;

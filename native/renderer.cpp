@@ -360,6 +360,7 @@ void Renderer::rebuild_sdfs(GpuScene& scene, const RenderSettings& settings) {
     stats_.field_instances = objects.placed;
     stats_.fields_regenerated = objects.regenerated;
     stats_.fields_reused = objects.reused;
+    stats_.fields_loaded = objects.loaded;
     update_field_memory_stats(method);
     stats_.resolution_scale = objects.resolution_scale;
     stats_.surface_limited = objects.surface_limited;
@@ -428,7 +429,7 @@ void Renderer::begin(GpuScene& scene, const Camera& camera, const std::vector<Li
       frame_ == 0)
     rebuild_sdfs(scene, settings);  // (otherwise the SDFs, independent of the view, stay as they are)
   else
-    stats_.fields_regenerated = stats_.fields_reused = 0, stats_.traced_texels = stats_.last_frame_traced_texels = 0;
+    stats_.fields_regenerated = stats_.fields_reused = stats_.fields_loaded = 0, stats_.traced_texels = stats_.last_frame_traced_texels = 0;
   // History shows what these settings draw: another method or field view draws something else.
   const bool same_look = settings.shadow_method == settings_.shadow_method && settings.field_view == settings_.field_view &&
                          settings.field_view_height == settings_.field_view_height;

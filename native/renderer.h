@@ -191,6 +191,7 @@ struct RenderStats {
   int field_instances = 0;      // placed in the scene (rtsdf: instances share their mesh's field)
   int fields_regenerated = 0;   // fields (re)built by begin(): voxelized and jump flooded
   int fields_reused = 0;        // rtsdf: fields begin() took refined from another render (FieldCache)
+  int fields_loaded = 0;        // ... of which from disk (the FieldCache's FieldStore)
   uint64_t traced_texels = 0;   // fine texels ray traced since begin()
   uint64_t last_frame_traced_texels = 0;
   double field_mb = 0.0;        // device memory of the fields now (packed, and SDFs still kept for updates)

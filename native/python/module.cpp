@@ -10,6 +10,7 @@
 #include "coarse_sdf.h"
 #include "exr_output.h"
 #include "field_cache.h"
+#include "field_store.h"
 #include "kept_scene.h"
 #include "renderer.h"
 #include "viewport.h"
@@ -239,6 +240,7 @@ py::dict stats_of(const rtsdf::RenderStats& s) {
   stats["field_instances"] = s.field_instances;
   stats["fields_regenerated"] = s.fields_regenerated;
   stats["fields_reused"] = s.fields_reused;
+  stats["fields_loaded"] = s.fields_loaded;
   stats["traced_texels"] = s.traced_texels;
   stats["last_frame_traced_texels"] = s.last_frame_traced_texels;
   stats["field_mb"] = s.field_mb;
@@ -385,6 +387,37 @@ class Session {
     return out;
   }
 
+  // Keeps refined fields in `directory` too, at most capacity_mb of them, for
+  // later processes; "" keeps them in memory only (the default).
+  void set_field_store(const std::string& directory, double capacity_mb) {
+    if (directory.empty()) {
+      field_cache_->set_store(nullptr);
+      return;
+    }
+    if (!(capacity_mb >= 1.0) || !(capacity_mb <= double(1 << 30)))
+      throw rtsdf::Error("the field store's capacity must be between 1 MB and 1 PB");
+    const auto current = field_cache_->store();
+    const size_t capacity = size_t(capacity_mb * double(1 << 20));
+    if (current && current->directory() == directory && current->capacity() == capacity) return;
+    field_cache_->set_store(std::make_shared<rtsdf::FieldStore>(directory, capacity));
+  }
+  py::object field_store() const {
+    const auto store = field_cache_->store();
+    if (!store) return py::none();
+    const rtsdf::FieldStore::Stats stats = store->stats();
+    py::dict out;
+    out["directory"] = store->directory().string();
+    out["capacity_mb"] = double(store->capacity()) / double(1 << 20);
+    out["files"] = stats.files;
+    out["mb"] = double(stats.bytes) / double(1 << 20);
+    out["loaded"] = stats.loaded;
+    out["saved"] = stats.saved;
+    out["passed_over"] = stats.passed_over;
+    out["failed_saves"] = stats.failed_saves;
+    out["last_error"] = stats.last_error;
+    return out;
+  }
+
   int validation_messages() const { return context_->validation_message_count(); }
 
   std::string device() const { return context_->info().name; }
@@ -505,6 +538,14 @@ PYBIND11_MODULE(rtsdf_native, m) {
            "Drops the refined fields kept for later renders and viewports (each mesh's next render builds its own).")
       .def_property_readonly("kept_fields", &Session::kept_fields,
                              "The refined fields kept for later renders: count, mb and capacity_mb.")
+      .def("set_field_store", &Session::set_field_store, py::arg("directory"), py::arg("capacity_mb") = 2048.0,
+           "Keeps refined fields in `directory` as well (made if missing), at most capacity_mb of files, the least "
+           "recently used going first, so that a later process takes them instead of tracing them again. Files "
+           "are only read by the build that wrote them. '' keeps fields in memory only (the default).")
+      .def_property_readonly("field_store", &Session::field_store,
+                             "None, or the field store's directory, capacity_mb, files and mb in it, and what this "
+                             "process did with it: loaded, saved, passed_over (unreadable files), failed_saves and "
+                             "last_error.")
       .def("render", &Session::render, py::arg("scene"), py::arg("settings") = py::dict(),
            py::arg("progress") = py::none(), py::arg("persistent") = false,
            "Renders a scene given as plain data: meshes [{positions (N,3), indices (M,3), normals (N,3) optional}], instances "
