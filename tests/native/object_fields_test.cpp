@@ -2,12 +2,18 @@
 // instances, rigid motion costs no SDF work, deformation rebuilds only the
 // mesh that changed, non-uniform scale stays conservative, and the memory
 // budget coarsens fields instead of failing; refined fields are kept for
-// later renderers of the same device (FieldCache).
+// later renderers of the same device (FieldCache) and, on disk, for later
+// processes (FieldStore).
+#include <unistd.h>
+
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
+#include <fstream>
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "error.h"
+#include "field_store.h"
 #include "march_fields.h"
 #include "mesh_detail.h"
 #include "mesh_import.h"
@@ -719,6 +725,135 @@ TEST_F(ObjectFieldsTest, TheCacheKeepsNoMoreThanItsCapacity) {
   EXPECT_EQ(small->size(), 0u);
   EXPECT_EQ(small->bytes(), 0u);
 }
+
+// A directory of its own for one test's field store, removed after it.
+class StoreDirectory {
+ public:
+  explicit StoreDirectory(const std::string& name)
+      : path_(std::filesystem::temp_directory_path() / ("rtsdf_" + name + "_" + std::to_string(getpid()))) {
+    std::filesystem::remove_all(path_);
+  }
+  ~StoreDirectory() {
+    std::error_code ignored;
+    std::filesystem::remove_all(path_, ignored);
+  }
+  const std::filesystem::path& path() const { return path_; }
+  std::vector<std::filesystem::path> files() const {
+    std::vector<std::filesystem::path> found;
+    for (const auto& entry : std::filesystem::directory_iterator(path_)) found.push_back(entry.path());
+    std::sort(found.begin(), found.end());
+    return found;
+  }
+
+ private:
+  std::filesystem::path path_;
+};
+
+// A cache as a new process has it: nothing in memory, the store on disk.
+std::shared_ptr<FieldCache> cache_on(const std::filesystem::path& directory,
+                                     uint64_t build = FieldStore::build_identity(), size_t capacity = size_t(64) << 20) {
+  auto cache = std::make_shared<FieldCache>(size_t(64) << 20);
+  cache->set_store(std::make_shared<FieldStore>(directory, capacity, build));
+  return cache;
+}
+
+TEST_F(ObjectFieldsTest, AFieldKeptOnDiskIsTakenByALaterProcessAndTracesNothing) {
+  StoreDirectory directory("store_later_process");
+  auto first = cache_on(directory.path());
+  const RenderOutput built = render_with(first, sphere_box_ground());
+  EXPECT_EQ(built.stats.fields_regenerated, 2);
+  EXPECT_GT(built.stats.traced_texels, 0u);
+  EXPECT_EQ(first->store()->stats().saved, 2);
+  EXPECT_EQ(directory.files().size(), 2u);
+  // What the same process shows with the fields it kept in memory.
+  const RenderOutput from_memory = render_with(first, sphere_box_ground());
+  ASSERT_EQ(from_memory.stats.fields_reused, 2);
+  EXPECT_EQ(from_memory.stats.fields_loaded, 0);
+
+  auto later = cache_on(directory.path());
+  const RenderOutput from_disk = render_with(later, sphere_box_ground());
+  EXPECT_EQ(from_disk.stats.fields_regenerated, 0);
+  EXPECT_EQ(from_disk.stats.fields_reused, 2);
+  EXPECT_EQ(from_disk.stats.fields_loaded, 2);
+  EXPECT_EQ(from_disk.stats.traced_texels, 0u);
+  EXPECT_EQ(later->store()->stats().loaded, 2);
+  EXPECT_EQ(later->size(), 2u) << "kept in memory too";
+  EXPECT_EQ(largest_difference(from_disk.combined, from_memory.combined), 0.0);
+  EXPECT_EQ(largest_difference(from_disk.shadow, from_memory.shadow), 0.0);
+  EXPECT_EQ(context().validation_message_count(), 0);
+}
+
+// Files that cannot be read as this build's field of the key (another
+// build's, torn, corrupt) are passed over: the field is built again and
+// its file written anew.
+TEST_F(ObjectFieldsTest, AFieldStoreReadsOnlyWholeFilesOfItsOwnBuild) {
+  StoreDirectory directory("store_whole_files");
+  const RenderOutput built = render_with(cache_on(directory.path()), sphere_box_ground());
+  ASSERT_EQ(directory.files().size(), 2u);
+
+  auto other_build = cache_on(directory.path(), FieldStore::build_identity() ^ 1u);
+  EXPECT_EQ(render_with(other_build, sphere_box_ground()).stats.fields_loaded, 0) << "another build's files are not read";
+  EXPECT_EQ(directory.files().size(), 4u) << "the other build's own";
+  std::filesystem::remove_all(directory.path());
+  render_with(cache_on(directory.path()), sphere_box_ground());
+
+  const std::vector<std::filesystem::path> files = directory.files();
+  ASSERT_EQ(files.size(), 2u);
+  std::filesystem::resize_file(files[0], std::filesystem::file_size(files[0]) / 2);  // torn
+  {
+    std::fstream corrupt(files[1], std::ios::in | std::ios::out | std::ios::binary);
+    corrupt.seekg(std::streamoff(std::filesystem::file_size(files[1]) / 2));
+    const char byte = char(corrupt.get() ^ 0x10);
+    corrupt.seekp(std::streamoff(std::filesystem::file_size(files[1]) / 2));
+    corrupt.put(byte);
+  }
+  auto after_damage = cache_on(directory.path());
+  const RenderOutput rebuilt = render_with(after_damage, sphere_box_ground());
+  EXPECT_EQ(rebuilt.stats.fields_loaded, 0);
+  EXPECT_EQ(rebuilt.stats.fields_regenerated, 2);
+  EXPECT_EQ(after_damage->store()->stats().passed_over, 2);
+  EXPECT_EQ(largest_difference(rebuilt.shadow, built.shadow), 0.0);
+  EXPECT_EQ(render_with(cache_on(directory.path()), sphere_box_ground()).stats.fields_loaded, 2) << "written anew";
+}
+
+TEST_F(ObjectFieldsTest, AFieldStoreKeepsNoMoreThanItsCapacity) {
+  StoreDirectory directory("store_capacity");
+  render_with(cache_on(directory.path()), sphere_box_ground());
+  std::vector<uintmax_t> sizes;
+  for (const auto& file : directory.files()) sizes.push_back(std::filesystem::file_size(file));
+  ASSERT_EQ(sizes.size(), 2u);
+  std::filesystem::remove_all(directory.path());
+
+  const size_t room = size_t(std::max(sizes[0], sizes[1]));
+  auto cache = cache_on(directory.path(), FieldStore::build_identity(), room);
+  render_with(cache, sphere_box_ground());
+  EXPECT_EQ(cache->store()->stats().saved, 2);
+  EXPECT_EQ(directory.files().size(), 1u) << "the least recently used went";
+  EXPECT_LE(cache->store()->stats().bytes, room);
+}
+
+// A store that cannot write loses nothing: the render is as without one.
+TEST_F(ObjectFieldsTest, AFieldStoreThatCannotWriteFailsNoRender) {
+  StoreDirectory directory("store_unwritable");
+  auto cache = cache_on(directory.path());
+  const RenderOutput without_store = render_with(std::make_shared<FieldCache>(size_t(64) << 20), sphere_box_ground());
+  std::filesystem::remove_all(directory.path());
+  std::ofstream(directory.path()) << "a file where the directory was";
+  const RenderOutput rendered = render_with(cache, sphere_box_ground());
+  EXPECT_EQ(rendered.stats.fields_regenerated, 2);
+  EXPECT_EQ(largest_difference(rendered.shadow, without_store.shadow), 0.0);
+  const FieldStore::Stats stats = cache->store()->stats();
+  EXPECT_EQ(stats.failed_saves, 2);
+  EXPECT_NE(stats.last_error.find(directory.path().string()), std::string::npos) << stats.last_error;
+  try {
+    FieldStore store(directory.path(), 1 << 20);
+    ADD_FAILURE() << "a file is no directory";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("cannot use"), std::string::npos) << e.what();
+  }
+  std::filesystem::remove(directory.path());
+}
+
 
 TEST(SingularValues, OfScalesAndRotations) {
   const glm::mat3 m = glm::mat3(glm::rotate(glm::mat4(1.0f), 0.8f, glm::normalize(glm::vec3(1, 2, 3)))) *
