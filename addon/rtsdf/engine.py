@@ -52,6 +52,9 @@ class RTSDFRenderEngine(bpy.types.RenderEngine):
         if session is None:
             self.report({"ERROR"}, f"RTSDF: {error}")
             return
+        store_warning = native.use_field_store(session, addon_preferences())
+        if store_warning:
+            self.report({"WARNING"}, f"RTSDF: {store_warning}")
         self.add_pass("Shadow", 1, "X")
         shown = {"result": None, "at": time.perf_counter()}
         try:
@@ -148,6 +151,9 @@ class RTSDFRenderEngine(bpy.types.RenderEngine):
         if session is None:
             raise native.Unavailable(error)
         if self.viewport is None:
+            store_warning = native.use_field_store(session, addon_preferences())
+            if store_warning:
+                print(f"RTSDF viewport: {store_warning}")
             self.viewport = session.viewport()
         first = not self.view_synced
         stale = None if first else {update.id.original.name for update in depsgraph.updates
@@ -237,6 +243,12 @@ class RTSDFRenderEngine(bpy.types.RenderEngine):
                               f"shading {frame_ms['shade']:.0f} ms | {field_summary(out['stats'], per_frame=True)}")
 
 
+def addon_preferences():
+    """The add-on's preferences (None where the add-on is not enabled by name)."""
+    addon = bpy.context.preferences.addons.get(__package__)
+    return addon.preferences if addon else None
+
+
 def field_summary(stats, per_frame=False):
     """The distance fields in a few words: how many (shared by how many
     instances), their memory (and the share of bricks stored near surfaces),
@@ -244,8 +256,9 @@ def field_summary(stats, per_frame=False):
     traced = stats["last_frame_traced_texels"] if per_frame else stats["traced_texels"]
     bricks = stats["brick_count"]
     occupancy = f" ({stats['stored_bricks'] / bricks:.0%} of bricks)" if bricks else ""
+    loaded = f" ({stats['fields_loaded']} from disk)" if stats.get("fields_loaded") else ""
     return (f"{stats['fields']} fields for {stats['field_instances']} instances, {stats['field_mb']:.1f} MB{occupancy} | "
-            f"{stats['fields_regenerated']} rebuilt, {stats['fields_reused']} kept from before, {traced:,} texels traced")
+            f"{stats['fields_regenerated']} rebuilt, {stats['fields_reused']} kept from before{loaded}, {traced:,} texels traced")
 
 
 def field_lines(stats, mesh_names):

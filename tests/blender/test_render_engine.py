@@ -530,6 +530,47 @@ class RenderEngine(unittest.TestCase):
         self.assertFalse(session.render(data, settings, None, True)["scene_reused"])
         self.assertFalse(session.render(data, settings, None, False)["scene_reused"])
 
+    def test_fields_kept_on_disk_are_taken_by_a_later_render(self):
+        import rtsdf
+        session, error = rtsdf.native.session()
+        self.assertIsNone(error)
+        preferences = bpy.context.preferences.addons["rtsdf"].preferences
+        directory = os.path.join(self.tmp.name, "fields")
+        forced = os.environ.pop("RTSDF_FIELD_STORE", None)  # (the tests' environment turns the store off)
+        try:
+            preferences.keep_fields_on_disk = True
+            preferences.field_store_directory = directory
+            bpy.context.scene.render.engine = "RTSDF"
+            bpy.context.scene.render.resolution_percentage = 10
+            bpy.context.scene.rtsdf.fine_resolution = 64
+            session.forget_fields()
+            bpy.ops.render.render()
+            self.assertEqual(session.field_store["directory"], directory)
+            self.assertGreater(session.field_store["saved"], 0)
+            files, megabytes = rtsdf.native.field_store_usage(directory)
+            self.assertEqual(files, session.field_store["files"])
+            self.assertGreater(megabytes, 0.0)
+            session.forget_fields()  # (as a Blender started afresh has none in memory)
+            bpy.ops.render.render()
+            self.assertEqual(session.field_store["loaded"], files, "every field taken from disk")
+
+            self.assertEqual(bpy.ops.rtsdf.clear_field_store(), {"FINISHED"})
+            self.assertEqual(rtsdf.native.field_store_usage(directory)[0], 0)
+            # A directory that cannot be made: a warning, and the render goes on with fields in memory.
+            blocker = os.path.join(self.tmp.name, "a_file")
+            open(blocker, "w").close()
+            preferences.field_store_directory = os.path.join(blocker, "fields")
+            bpy.ops.render.render()
+            self.assertIsNone(session.field_store)
+            preferences.keep_fields_on_disk = False
+            bpy.ops.render.render()
+            self.assertIsNone(session.field_store)
+        finally:
+            preferences.keep_fields_on_disk = True
+            preferences.field_store_directory = ""
+            if forced is not None:
+                os.environ["RTSDF_FIELD_STORE"] = forced
+
     def assert_reports_error(self):
         # Blender turns an ERROR report from the engine into a failed operator.
         with self.assertRaises(RuntimeError) as caught:
