@@ -387,6 +387,7 @@ class Session {
     return out;
   }
 
+  static constexpr double kFieldStoreMinMb = 16.0, kFieldStoreMaxMb = double(1 << 20);
   // Keeps refined fields in `directory` too, at most capacity_mb of them, for
   // later processes; "" keeps them in memory only (the default).
   void set_field_store(const std::string& directory, double capacity_mb) {
@@ -394,8 +395,8 @@ class Session {
       field_cache_->set_store(nullptr);
       return;
     }
-    if (!(capacity_mb >= 1.0) || !(capacity_mb <= double(1 << 30)))
-      throw rtsdf::Error("the field store's capacity must be between 1 MB and 1 PB");
+    if (!(capacity_mb >= kFieldStoreMinMb) || !(capacity_mb <= kFieldStoreMaxMb))  // (the preference's range)
+      throw rtsdf::Error("the field store's capacity_mb must be 16 to 1048576");
     const auto current = field_cache_->store();
     const size_t capacity = size_t(capacity_mb * double(1 << 20));
     if (current && current->directory() == directory && current->capacity() == capacity) return;

@@ -170,6 +170,23 @@ class NativeModuleInBlender(unittest.TestCase):
         self.assert_panel_range_is_the_native_one("noise_threshold", (0.0, 1.0), (-0.01, 1.5),
                                                   "noise_threshold must be 0")
 
+    def test_a_field_store_outside_the_preferences_range_or_on_a_file_is_refused(self):
+        import tempfile
+        session = rtsdf_native.Session()
+        with tempfile.TemporaryDirectory() as directory:
+            for capacity_mb in (16, 1 << 20):  # (the add-on's Disk Space)
+                session.set_field_store(directory, capacity_mb)
+                self.assertEqual(session.field_store["capacity_mb"], capacity_mb)
+            for capacity_mb in (15, (1 << 20) + 1, float("nan")):
+                with self.assertRaisesRegex(rtsdf_native.Error, "capacity_mb must be 16 to 1048576"):
+                    session.set_field_store(directory, capacity_mb)
+            a_file = os.path.join(directory, "a_file")
+            open(a_file, "w").close()
+            with self.assertRaisesRegex(rtsdf_native.Error, "cannot use .*a_file"):
+                session.set_field_store(a_file, 64)
+            session.set_field_store("")
+            self.assertIsNone(session.field_store)
+
     def test_bad_input_raises(self):
         with self.assertRaises(rtsdf_native.Error):
             rtsdf_native.coarse_sdf(np.zeros((3, 3), np.float32), np.zeros((0, 3), np.uint32), 32, 0.5)
