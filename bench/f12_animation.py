@@ -16,6 +16,8 @@ import time
 import addon_utils
 import bpy
 
+# Each run builds its fields: none are taken from the disk (RTSDF_FIELD_STORE=DIR times a warm one).
+os.environ.setdefault("RTSDF_FIELD_STORE", "off")
 addon_utils.enable("rtsdf", default_set=True, handle_error=None)
 name, frames = sys.argv[sys.argv.index("--") + 1], int(sys.argv[sys.argv.index("--") + 2])
 scene = bpy.context.scene

@@ -121,7 +121,8 @@ def driver():
     parser.add_argument("--timeout", type=float, default=180.0)
     args = parser.parse_args()
     build = os.path.abspath(os.environ.get("RTSDF_BUILD_DIR", os.path.join(HERE, "..", "build")))
-    env = dict(os.environ, BLENDER_USER_SCRIPTS=os.path.join(build, "blender_user_scripts"))
+    # (every model's fields built by this build, none taken from the disk)
+    env = dict(os.environ, BLENDER_USER_SCRIPTS=os.path.join(build, "blender_user_scripts"), RTSDF_FIELD_STORE="off")
     env.setdefault("XDG_RUNTIME_DIR", "/tmp")
     files = sorted(os.path.join(root, name) for root, _, names in os.walk(args.models) for name in names
                    if os.path.splitext(name)[1].lower() in FORMATS)

@@ -81,7 +81,10 @@ def blender_render(scene, engine, out, frame, samples, percent, shadows=True, se
     command += ["--python", script, "--", engine, out, str(frame), str(samples), str(percent),
                 "1" if shadows else "0", *settings]
     start = time.perf_counter()
-    result = subprocess.run(command, capture_output=True, text=True)
+    # RTSDF's time includes building its fields, as on a first render: none come from the disk
+    # (set RTSDF_FIELD_STORE=DIR to time a render that takes them from DIR).
+    env = dict(os.environ, RTSDF_FIELD_STORE=os.environ.get("RTSDF_FIELD_STORE", "off"))
+    result = subprocess.run(command, capture_output=True, text=True, env=env)
     seconds = time.perf_counter() - start
     if result.returncode != 0 or not os.path.exists(out):
         sys.exit(f"compare_render: {engine} render failed:\n{result.stdout[-2000:]}\n{result.stderr[-2000:]}")
