@@ -69,6 +69,8 @@ layout(std430, binding = 10) buffer Doubts { uint doubt_count; uint doubt_groups
 // one list, most SIMD groups held a texel on its turn, and on lavapipe all
 // their lanes ran its traversal (a deforming character's fine update 45 ms
 // a frame, against 40 ms apart).
+// fine_probe.comp: after a still field's first update, the texels it
+// traced, which cast no ray but find whether they may improve (below).
 #ifdef RTSDF_REMEASURE
 const bool on_turn = false;
 #else
@@ -130,7 +132,11 @@ void main() {
   bool still = pc.coarse_beta.z != 0.0;  // (only a still field's convergence is counted)
   float alpha = pc.params.x;
   float target = max(c + pc.params.z, 0.0);  // (params.z: the bias that makes it an upper bound)
+#ifdef RTSDF_PROBE
+  vec4 previous = imageLoad(history, p);  // (what the first update wrote)
+#else
   vec4 previous = first_frame ? vec4(0.0, 0.0, target, pc.params.w) : imageLoad(history, p);
+#endif
 
   nearest = pc.params.w, nearest_slab = pc.params.w;
   hits = vec2(0.0);
@@ -147,7 +153,12 @@ void main() {
   // it tighter than the march's thin-piece slabs are tuned to (bench/run
   // --quick at Preview: interior 0.0131 -> 0.0150, tree 0.0662 -> 0.0687).
   // (Neighbours mostly keep the same few triangles: each is measured once.)
-  if (!first_frame && !still) {
+#ifdef RTSDF_PROBE
+  const bool measure_neighbours = true;
+#else
+  bool measure_neighbours = !first_frame && !still;
+#endif
+  if (measure_neighbours) {
     uvec2 measured[7];
     int count = 0;
     if (known) measured[count++] = uvec2(kept, kept_instance);
@@ -166,7 +177,20 @@ void main() {
     }
   }
 
-#ifndef RTSDF_REMEASURE
+#ifdef RTSDF_PROBE
+  // A still field's first rays found each texel's nearest surface, but for
+  // the texels whose rays all missed a closer one (8-12% of them on the
+  // bolts and the CAD engine). A neighbour's kept triangle closer than the
+  // texel's own is such a miss, and a texel with no triangle may be one:
+  // only those stay listed for the next update's rays (the rest would
+  // find nothing, and cost as much as the first update). Their value and
+  // sign stay as they are (the neighbours' triangles are only a doubt).
+  bool may_improve = !known || nearest < previous.z - 0.25 * pc.fine_grid.w || previous.w < pc.params.w;
+  imageStore(history, p, vec4(float((uint(previous.x) & ~1u) | (may_improve ? 1u : 0u)), previous.yzw));
+  return;
+#endif
+
+#if !defined(RTSDF_REMEASURE) && !defined(RTSDF_PROBE)
   const int rays = pc.fine_dims.w;
   const float golden_angle = 2.39996323;
   for (int i = 0; i < rays; ++i) {

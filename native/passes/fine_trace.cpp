@@ -9,6 +9,7 @@
 #include "spirv/spirv_fine_bricks_near_comp.h"
 #include "spirv/spirv_fine_classify_comp.h"
 #include "spirv/spirv_fine_dispatch_comp.h"
+#include "spirv/spirv_fine_probe_comp.h"
 #include "spirv/spirv_fine_remeasure_comp.h"
 #include "spirv/spirv_fine_signs_comp.h"
 #include "spirv/spirv_fine_trace_comp.h"
@@ -53,6 +54,7 @@ FineTracePass::FineTracePass(const vk::Context& context)
       prepare_dispatch_(context, RTSDF_SPIRV(spirv_fine_dispatch_comp), {kBuffer, kBuffer}, 0),
       trace_(context, RTSDF_SPIRV(spirv_fine_trace_comp), kTraceBindings, sizeof(gpu::FinePush)),
       remeasure_(context, RTSDF_SPIRV(spirv_fine_remeasure_comp), kTraceBindings, sizeof(gpu::FinePush)),
+      probe_(context, RTSDF_SPIRV(spirv_fine_probe_comp), kTraceBindings, sizeof(gpu::FinePush)),
       signs_(context, RTSDF_SPIRV(spirv_fine_signs_comp), {kBuffer, kBuffer, kBuffer, kBuffer, kImage, kImage, kBuffer, kBuffer},
              sizeof(gpu::FinePush)) {}
 
@@ -139,20 +141,21 @@ void FineTracePass::record(VkCommandBuffer cmd, const GpuScene::RayTargets& scen
   // The texels on their turn, then those measured again off it: each texel
   // is listed once, so the two write apart (their reads of neighbours'
   // history are the same benign race as within one dispatch).
-  const std::pair<const vk::Pipeline*, VkDeviceSize> dispatches[] = {{&trace_, 0}, {&remeasure_, 5 * sizeof(uint32_t)}};
-  for (const auto& [pipeline, offset] : dispatches) {
-    pipeline->bind(cmd);
-    pipeline->push_descriptors(cmd, {vk::Resource::storage_buffer(scene.top_nodes),
-                                     vk::Resource::storage_buffer(scene.instances),
-                                     vk::Resource::storage_buffer(scene.bottom_nodes),
-                                     vk::Resource::storage_buffer(scene.triangles), vk::Resource::storage_image(coarse),
-                                     vk::Resource::storage_image(fine), vk::Resource::storage_image(history),
-                                     vk::Resource::storage_buffer(trace_list),
-                                     vk::Resource::storage_buffer(scene.winding_dipoles),
-                                     vk::Resource::storage_buffer(dispatch), vk::Resource::storage_buffer(fields.doubts)});
-    pipeline->push_constants(cmd, push);
+  auto dispatch_over_list = [&](const vk::Pipeline& pipeline, VkDeviceSize offset) {
+    pipeline.bind(cmd);
+    pipeline.push_descriptors(cmd, {vk::Resource::storage_buffer(scene.top_nodes),
+                                    vk::Resource::storage_buffer(scene.instances),
+                                    vk::Resource::storage_buffer(scene.bottom_nodes),
+                                    vk::Resource::storage_buffer(scene.triangles), vk::Resource::storage_image(coarse),
+                                    vk::Resource::storage_image(fine), vk::Resource::storage_image(history),
+                                    vk::Resource::storage_buffer(trace_list),
+                                    vk::Resource::storage_buffer(scene.winding_dipoles),
+                                    vk::Resource::storage_buffer(dispatch), vk::Resource::storage_buffer(fields.doubts)});
+    pipeline.push_constants(cmd, push);
     vkCmdDispatchIndirect(cmd, dispatch.handle(), offset);
-  }
+  };
+  dispatch_over_list(trace_, 0);
+  dispatch_over_list(remeasure_, 5 * sizeof(uint32_t));
   compute_barrier(cmd, VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT | VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
                   VK_ACCESS_INDIRECT_COMMAND_READ_BIT | VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
   signs_.bind(cmd);
@@ -163,6 +166,11 @@ void FineTracePass::record(VkCommandBuffer cmd, const GpuScene::RayTargets& scen
                                 vk::Resource::storage_buffer(scene.winding_dipoles)});
   signs_.push_constants(cmd, push);
   vkCmdDispatchIndirect(cmd, fields.doubts.handle(), sizeof(uint32_t));
+  // A still field's first update: which texels the next update's rays may improve.
+  if (settings.skip_converged && first_frame && !settings.trace_everywhere) {
+    compute_barrier(cmd);
+    dispatch_over_list(probe_, 0);
+  }
   if (timer) timer->mark(cmd, "fine trace");
 }
 

@@ -21,9 +21,11 @@ struct FineTraceSettings {
   // and the interleave are ignored) and its rays are long enough to cross the grid.
   bool trace_everywhere = false;
   // A still field (its geometry unchanged since its first update): after
-  // the first two updates, only texels whose last trace still found a
-  // closer surface are traced again. Object fields only, and not where a
-  // deforming mesh keeps its history.
+  // the first update, only texels that may improve (a neighbour's nearest
+  // triangle is closer than their own, or they have none:
+  // fine_probe.comp), and after each later one only those whose trace still
+  // found a closer surface, are traced again. Object fields only, and not
+  // where a deforming mesh keeps its history.
   bool skip_converged = false;
   // Only the texels of bricks near the band (those a packed field stores:
   // field_brick_slots.comp) are classified and traced; the rest of the dense
@@ -76,6 +78,7 @@ class FineTracePass {
   vk::Pipeline prepare_dispatch_;
   vk::Pipeline trace_;      // the texels on their turn: rays and kept triangles
   vk::Pipeline remeasure_;  // the texels off their turn in a changing field: kept triangles alone
+  vk::Pipeline probe_;      // after a still field's first update: the texels that may improve
   vk::Pipeline signs_;      // the doubted signs (shaders/fine_signs.comp)
 };
 
