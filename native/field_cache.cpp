@@ -5,7 +5,6 @@
 #include <type_traits>
 
 #include "field_store.h"
-
 #include "packed_field.h"
 
 namespace rtsdf {

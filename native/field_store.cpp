@@ -88,19 +88,25 @@ std::optional<CachedField> FieldStore::load(const FieldKey& key, const vk::Conte
   std::ifstream file(path, std::ios::binary);
   if (!file) return std::nullopt;
   const std::string key_text = key.describe();
-  // (removed: its key's next save writes it anew)
-  auto pass_over = [this, &file, &path] {
+  // A file that is not this key's whole field is removed (its key's next
+  // save writes it anew); one that could not be laid out on the device is
+  // left for a later try.
+  auto pass_over = [this, &file, &path](bool remove = true) {
     file.close();
     std::error_code ignored;
-    fs::remove(path, ignored);
+    if (remove) fs::remove(path, ignored);
     std::lock_guard lock(mutex_);
     stats_.passed_over++;
     return std::nullopt;
   };
   FileHeader header{};
+  std::error_code size_error;
+  const uintmax_t file_bytes = fs::file_size(path, size_error);
+  // (the words' count checked against the file's size before anything is allocated for them)
   if (!file.read(reinterpret_cast<char*>(&header), sizeof header) ||
       std::memcmp(header.magic, kMagic, sizeof kMagic) != 0 || header.format != kFormat || header.build != build_ ||
-      header.key_length != key_text.size() || header.word_count > (uint64_t(1) << 32))
+      header.key_length != key_text.size() || header.word_count > (uint64_t(1) << 32) || size_error ||
+      file_bytes != sizeof header + header.key_length + header.word_count * sizeof(uint32_t))
     return pass_over();
   std::string text(header.key_length, '\0');
   PackedField::Saved saved{header.grid, header.far_grid, glm::vec3(header.box_lo[0], header.box_lo[1], header.box_lo[2]),
@@ -113,8 +119,8 @@ std::optional<CachedField> FieldStore::load(const FieldKey& key, const vk::Conte
   CachedField field;
   try {
     field.packed = PackedField::load(context, std::move(pass), saved);
-  } catch (const Error&) {  // (a layout no field of this build has: not this key's file after all)
-    return pass_over();
+  } catch (const Error&) {  // (out of device memory, say)
+    return pass_over(false);
   }
   field.coarse_grid = header.coarse_grid;
   field.fine_grid = header.fine_grid;

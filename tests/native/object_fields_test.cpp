@@ -814,6 +814,18 @@ TEST_F(ObjectFieldsTest, AFieldStoreReadsOnlyWholeFilesOfItsOwnBuild) {
   EXPECT_EQ(after_damage->store()->stats().passed_over, 2);
   EXPECT_EQ(largest_difference(rebuilt.shadow, built.shadow), 0.0);
   EXPECT_EQ(render_with(cache_on(directory.path()), sphere_box_ground()).stats.fields_loaded, 2) << "written anew";
+
+  // A header that claims more words than the file holds (four billion) is
+  // passed over before anything is allocated for them.
+  {
+    std::fstream corrupt(directory.files()[0], std::ios::in | std::ios::out | std::ios::binary);
+    corrupt.seekp(24);  // (the words' count: after the magic, format, key length and build)
+    const uint64_t claimed = uint64_t(1) << 32;
+    corrupt.write(reinterpret_cast<const char*>(&claimed), sizeof claimed);
+  }
+  auto after_claim = cache_on(directory.path());
+  EXPECT_EQ(render_with(after_claim, sphere_box_ground()).stats.fields_loaded, 1);
+  EXPECT_EQ(after_claim->store()->stats().passed_over, 1);
 }
 
 TEST_F(ObjectFieldsTest, AFieldStoreKeepsNoMoreThanItsCapacity) {
