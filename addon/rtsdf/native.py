@@ -76,12 +76,10 @@ def field_store_directory(preferences):
         return "" if forced.strip().lower() in ("", "off", "0") else forced
     if preferences is None or not preferences.keep_fields_on_disk:
         return ""
-    return bpy_abspath(preferences.field_store_directory) or default_field_store_directory()
-
-
-def bpy_abspath(path):
-    import bpy
-    return bpy.path.abspath(path) if path else ""
+    if not preferences.field_store_directory:
+        return default_field_store_directory()
+    import bpy  # (for a path relative to the .blend, "//")
+    return bpy.path.abspath(preferences.field_store_directory)
 
 
 def use_field_store(session, preferences):
