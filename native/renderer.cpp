@@ -708,8 +708,7 @@ void Renderer::add_frame() {
   const bool tests_convergence = settings_.noise_threshold > 0.0f && frame_ + 1 >= judged_from &&
                                  frame_ + 1 < settings_.samples && visibility_settled();
   const gpu::TemporalPush temporal = resolves ? temporal_push() : gpu::TemporalPush{};
-  const TemporalImages temporal_images{accum_.color,    accum_.passes,    history_.color,   history_.passes,
-                                       resolved_.color, resolved_.passes, history_.moments, resolved_.moments};
+  const TemporalImages temporal_images{accum_, history_, resolved_};
   auto compute_barrier = [](VkCommandBuffer cmd) {
     vk::memory_barrier(cmd, VK_ACCESS_SHADER_WRITE_BIT, VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT,
                        VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT);

@@ -99,13 +99,13 @@ namespace {
 std::vector<vk::Resource> bindings(const GBufferPass& gbuffer, const TemporalImages& images, const vk::Buffer& frame,
                                    const vk::Buffer& lights, const vk::Buffer& tiles, const vk::Buffer& keep_tiles) {
   return {vk::Resource::storage_image(gbuffer.position()),      vk::Resource::storage_image(gbuffer.motion()),
-          vk::Resource::storage_image(images.sample_color),     vk::Resource::storage_image(images.sample_passes),
-          vk::Resource::storage_image(images.history_color),    vk::Resource::storage_image(images.history_passes),
+          vk::Resource::storage_image(images.sample.color),     vk::Resource::storage_image(images.sample.passes),
+          vk::Resource::storage_image(images.history.color),    vk::Resource::storage_image(images.history.passes),
           vk::Resource::uniform_buffer(frame),                  vk::Resource::storage_buffer(lights),
-          vk::Resource::storage_image(images.resolved_color),   vk::Resource::storage_image(images.resolved_passes),
+          vk::Resource::storage_image(images.resolved.color),   vk::Resource::storage_image(images.resolved.passes),
           vk::Resource::storage_buffer(tiles),                  vk::Resource::storage_image(gbuffer.normal()),
-          vk::Resource::storage_image(gbuffer.albedo()),        vk::Resource::storage_image(images.history_moments),
-          vk::Resource::storage_image(images.resolved_moments), vk::Resource::storage_buffer(keep_tiles)};
+          vk::Resource::storage_image(gbuffer.albedo()),        vk::Resource::storage_image(images.history.moments),
+          vk::Resource::storage_image(images.resolved.moments), vk::Resource::storage_buffer(keep_tiles)};
 }
 
 // Copies `from` to `to` over `rects`, each image taken from GENERAL to the
@@ -166,10 +166,10 @@ void TemporalPass::record_keep(VkCommandBuffer cmd, const GBufferPass& gbuffer, 
   // Outside the region every pixel is settled: history as it was is its
   // resolved accumulation and its sample (for the resolve's neighbourhoods).
   copy_rects(cmd,
-             {{&images.history_color, &images.resolved_color},
-              {&images.history_passes, &images.resolved_passes},
-              {&images.history_moments, &images.resolved_moments},
-              {&images.history_color, &images.sample_color}},
+             {{&images.history.color, &images.resolved.color},
+              {&images.history.passes, &images.resolved.passes},
+              {&images.history.moments, &images.resolved.moments},
+              {&images.history.color, &images.sample.color}},
              region.outside());
   vk::memory_barrier(cmd, VK_ACCESS_TRANSFER_WRITE_BIT, VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT,
                      VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT);

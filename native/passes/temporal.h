@@ -27,25 +27,21 @@ struct KeptTiles {
   VkDeviceSize quad_dispatch;
 };
 
-struct TemporalImages {
-  const vk::Image& sample_color;
-  const vk::Image& sample_passes;
-  const vk::Image& history_color;
-  const vk::Image& history_passes;
-  const vk::Image& resolved_color;
-  const vk::Image& resolved_passes;
-  // The samples' second moments (shaders/sample_moments.glsl.h): history's,
-  // and the resolved accumulation's.
-  const vk::Image& history_moments;
-  const vk::Image& resolved_moments;
-};
-
 // Each pixel's running means over its samples, and their second moments:
 // the images of one accumulation, which change roles together.
 struct Accumulation {
   vk::Image color;    // rgb = Combined, a = coverage
   vk::Image passes;   // x = nearest depth, y = shadow, z = samples in the pixel's mean, w = farthest depth
   vk::Image moments;  // the samples' second moments (shaders/sample_moments.glsl.h)
+};
+
+// The accumulations the temporal passes read and write: this frame's
+// sample, the history reprojected from, and the resolved one (the sample's
+// moments are the shading's alone).
+struct TemporalImages {
+  const Accumulation& sample;
+  const Accumulation& history;
+  const Accumulation& resolved;
 };
 
 class TemporalPass {
