@@ -77,17 +77,16 @@ FieldStore::FieldStore(fs::path directory, size_t capacity_bytes, uint64_t build
                 (error ? error.message() : std::string("not a directory")));
 }
 
-fs::path FieldStore::path_of(const FieldKey& key) const {
-  const std::string text = key.describe();
-  return directory_ / (hex(digest_bytes(text.data(), text.size(), build_)) + kExtension);
+fs::path FieldStore::path_of(const std::string& key_text) const {
+  return directory_ / (hex(digest_bytes(key_text.data(), key_text.size(), build_)) + kExtension);
 }
 
 std::optional<CachedField> FieldStore::load(const FieldKey& key, const vk::Context& context,
                                             std::shared_ptr<const FieldPackPass> pass) {
-  const fs::path path = path_of(key);
+  const std::string key_text = key.describe();
+  const fs::path path = path_of(key_text);
   std::ifstream file(path, std::ios::binary);
   if (!file) return std::nullopt;
-  const std::string key_text = key.describe();
   // A file that is not this key's whole field is removed (its key's next
   // save writes it anew); one that could not be laid out on the device is
   // left for a later try.
@@ -132,10 +131,10 @@ std::optional<CachedField> FieldStore::load(const FieldKey& key, const vk::Conte
 }
 
 void FieldStore::save(const FieldKey& key, const CachedField& field) {
-  const fs::path path = path_of(key);
+  const std::string key_text = key.describe();
+  const fs::path path = path_of(key_text);
   std::error_code error;
   if (fs::exists(path, error)) return;
-  const std::string key_text = key.describe();
   const PackedField::Saved saved = field.packed->save();
   FileHeader header{};
   std::memcpy(header.magic, kMagic, sizeof kMagic);

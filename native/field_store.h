@@ -52,7 +52,7 @@ class FieldStore {
   static uint64_t build_identity();
 
  private:
-  std::filesystem::path path_of(const FieldKey& key) const;
+  std::filesystem::path path_of(const std::string& key_text) const;  // (FieldKey::describe's)
   void evict_to_capacity();  // (with the lock held)
 
   const std::filesystem::path directory_;
