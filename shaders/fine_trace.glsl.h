@@ -181,10 +181,14 @@ void main() {
   // A still field's first rays found each texel's nearest surface, but for
   // the texels whose rays all missed a closer one (8-12% of them on the
   // bolts and the CAD engine). A neighbour's kept triangle closer than the
-  // texel's own is such a miss, and a texel with no triangle may be one:
-  // only those stay listed for the next update's rays (the rest would
-  // find nothing, and cost as much as the first update). Their value and
-  // sign stay as they are (the neighbours' triangles are only a doubt).
+  // texel's own is such a miss, and a texel with no triangle may be one.
+  // A texel whose rays met a thin piece (its slab g below the ray length)
+  // stays too: the paper's decaying update moves the slab every trace, and
+  // the march's slabs are tuned to it (without this the Preview row lost
+  // on leaf cards and thin parts). Only those stay listed for the next
+  // update's rays (the rest would find nothing, and cost as much as the
+  // first update). Their value and sign stay as they are (the neighbours'
+  // triangles are only a doubt).
   bool may_improve = !known || nearest < previous.z - 0.25 * pc.fine_grid.w || previous.w < pc.params.w;
   imageStore(history, p, vec4(float((uint(previous.x) & ~1u) | (may_improve ? 1u : 0u)), previous.yzw));
   return;
