@@ -180,25 +180,24 @@ void FieldStore::save(const FieldKey& key, const CachedField& field) {
   evict_to_capacity();
 }
 
-void FieldStore::evict_to_capacity() {
-  struct File {
-    fs::file_time_type time;
-    size_t bytes;
-    fs::path path;
-  };
-  std::vector<File> files;
-  size_t total = 0;
+std::vector<FieldStore::File> FieldStore::files() const {
+  std::vector<File> found;
   std::error_code error;
   for (const fs::directory_entry& entry : fs::directory_iterator(directory_, error)) {
     if (entry.path().extension() != kExtension) continue;
-    std::error_code ignored;
-    const size_t bytes = entry.file_size(ignored);
-    files.push_back({entry.last_write_time(ignored), bytes, entry.path()});
-    total += bytes;
+    std::error_code ignored;  // (a file another process removed meanwhile counts as empty)
+    found.push_back({entry.last_write_time(ignored), size_t(entry.file_size(ignored)), entry.path()});
   }
+  return found;
+}
+
+void FieldStore::evict_to_capacity() {
+  std::vector<File> kept = files();
+  size_t total = 0;
+  for (const File& file : kept) total += file.bytes;
   if (total <= capacity_) return;
-  std::sort(files.begin(), files.end(), [](const File& a, const File& b) { return a.time < b.time; });
-  for (const File& file : files) {
+  std::sort(kept.begin(), kept.end(), [](const File& a, const File& b) { return a.time < b.time; });
+  for (const File& file : kept) {
     if (total <= capacity_) break;
     std::error_code ignored;
     if (fs::remove(file.path, ignored)) total -= file.bytes;
@@ -208,12 +207,9 @@ void FieldStore::evict_to_capacity() {
 FieldStore::Stats FieldStore::stats() const {
   std::lock_guard lock(mutex_);
   Stats stats = stats_;
-  std::error_code error;
-  for (const fs::directory_entry& entry : fs::directory_iterator(directory_, error)) {
-    if (entry.path().extension() != kExtension) continue;
-    std::error_code ignored;
+  for (const File& file : files()) {
     stats.files++;
-    stats.bytes += entry.file_size(ignored);
+    stats.bytes += file.bytes;
   }
   return stats;
 }

@@ -20,6 +20,7 @@
 #include <mutex>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "field_cache.h"
 
@@ -53,6 +54,12 @@ class FieldStore {
 
  private:
   std::filesystem::path path_of(const std::string& key_text) const;  // (FieldKey::describe's)
+  struct File {
+    std::filesystem::file_time_type time;  // last written or read (load renews it)
+    size_t bytes;
+    std::filesystem::path path;
+  };
+  std::vector<File> files() const;  // the fields in the directory now
   void evict_to_capacity();  // (with the lock held)
 
   const std::filesystem::path directory_;
