@@ -408,8 +408,14 @@ History find_history(ivec2 pixel, vec4 position) {
                      (surface_bits(pixel, position) & moved_bits) == 0u;
     // (read where a nearer surface beside it was: whether history's front is
     // nearer than that surface now)
+    // History's depths are the last frame's: moved first, as this surface
+    // moved in depth since (as the resolve moves them). Compared unmoved,
+    // the pixels of a surface moving away from the camera by more than
+    // depth_tolerance a step found history's nearest depth in front of them
+    // and counted as few samples at every step.
+    float own_change = background ? 0.0 : depth - h.previous_depth;
     bool front_nearer = dilated ? h.nearest + front_change < front_depth * (1.0 - pc.depth_tolerance)
-                                : h.nearest < depth * (1.0 - pc.depth_tolerance);
+                                : h.nearest + own_change < depth * (1.0 - pc.depth_tolerance);
     h.front_moved = (front_nearer || saw_mover) &&
                     within_box(history_front, frame.moved_lo, frame.moved_hi,
                                (pc.jitter_reach + 2.0) * pixel_width_at(history_front));

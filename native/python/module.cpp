@@ -328,6 +328,8 @@ class Viewport {
     result["combined"] = image_of(frame.image.combined, view.height, view.width, 4);  // rows top to bottom
     result["frames"] = frame.image.samples_done;
     result["effective_samples"] = frame.effective_samples;
+    // (with temporal reuse: the samples each pixel stands for, history's included)
+    if (!frame.image.samples.empty()) result["samples"] = image_of(frame.image.samples, view.height, view.width, 1);
     result["converged"] = frame.converged;
     result["advanced"] = frame.advanced;
     result["draw_ms"] = py::dict(py::arg("begin") = frame.begin_ms, py::arg("frame") = frame.frame_ms,

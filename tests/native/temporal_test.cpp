@@ -141,6 +141,26 @@ TEST_F(TemporalTest, ReprojectionFollowsATranslatingCubeAndDropsDisocclusions) {
   EXPECT_GT(out.effective_samples, 3.0);
 }
 
+// The cube sinks by 0.2, away from the camera (its top's depth 9 -> 9.2,
+// twice the reprojection's depth tolerance): its top's history is still its
+// own, compared at the depths it has now, and keeps its 4 samples (with
+// history's depths left at the last frame's, its nearest depth lay in front
+// of the top, as if something that moved had been there, and history counted
+// as 3).
+TEST_F(TemporalTest, ASurfaceMovingAwayFromTheCameraKeepsItsHistory) {
+  GpuScene scene(context(), cube_over_ground());
+  Renderer renderer(context());
+  const RenderSettings settings = playback_settings();
+  draw_top_view(renderer, scene, {tilted_sun()}, glm::vec3(0.05f), settings, 4);
+  scene.set_transforms({glm::translate(glm::mat4(1.0f), glm::vec3(-0.5f, 0, -0.2f)), glm::mat4(1.0f)});
+  draw_top_view(renderer, scene, {tilted_sun()}, glm::vec3(0.05f), settings, 1);
+  const RenderOutput out = renderer.read();
+  const size_t top = pixel_at(-0.5, 0.0);
+  std::printf("the sunk top: depth %.3f, samples %.0f\n", out.depth[top], out.samples[top]);
+  EXPECT_NEAR(out.depth[top], 9.2f, 1e-3f);
+  EXPECT_EQ(out.samples[top], 5.0f) << "4 frames of history and this one";
+}
+
 // The cube moves by three quarters of its width: the ground a pixel behind
 // its new outline was under the cube, and that pixel's own history (the
 // cube) is dropped; read where the outline was (the motion of the nearer
