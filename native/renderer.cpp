@@ -61,7 +61,8 @@ float halton(uint32_t index, uint32_t base) {
 // instance: world_motions), for the temporal passes to follow their shadows
 // (FrameData::shadow_movers; none where none or more than the frame holds
 // moved), and the boxes of those that stayed (FrameData::still_casters).
-void put_shadow_movers(const GpuScene& scene, const std::vector<glm::mat4>& motions, gpu::FrameData& frame) {
+void put_shadow_movers(const GpuScene& scene, const std::vector<glm::mat4>& motions, const std::vector<uint8_t>& deformed,
+                       gpu::FrameData& frame) {
   frame.shadow_counts = glm::uvec4(0u);
   std::vector<uint32_t> moved, still;
   for (uint32_t i : scene.shadow_casters()) (motions[i] == glm::mat4(1.0f) ? still : moved).push_back(i);
@@ -72,7 +73,7 @@ void put_shadow_movers(const GpuScene& scene, const std::vector<glm::mat4>& moti
     const Bounds box = placed.world_bounds({i}, scene.mesh_extents());
     if (box.is_empty()) continue;
     glm::vec4* words = &frame.shadow_movers[gpu::kShadowMoverWords * movers++];
-    words[0] = glm::vec4(box.lo, 0.0f);
+    words[0] = glm::vec4(box.lo, deformed[i] ? 1.0f : 0.0f);
     words[1] = glm::vec4(box.hi, 0.0f);
     for (int row = 0; row < 3; ++row) words[2 + row] = glm::row(motions[i], row);
   }
@@ -502,7 +503,7 @@ void Renderer::begin(GpuScene& scene, const Camera& camera, const std::vector<Li
       const uint32_t mesh = scene.instances()[i].mesh;
       instance_deformed_[i] = mesh < deformed_meshes.size() ? deformed_meshes[mesh] : 0;
     }
-  put_shadow_movers(scene, instance_motions_, frame_data_);
+  put_shadow_movers(scene, instance_motions_, instance_deformed_, frame_data_);
   for (size_t i = 0; i < instance_motions_.size(); ++i)  // (the history bits of all that moved or deformed: shared.h)
     if (instance_motions_[i] != glm::mat4(1.0f) || instance_deformed_[i])
       frame_data_.shadow_counts.z |= 1u << (i % gpu::kHistoryBits);

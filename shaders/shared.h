@@ -155,9 +155,10 @@ struct FrameData {
   mat4 steady_clip_to_world;
   // The shadow casters placed elsewhere since the last frame (moved, turned
   // or scaled), kShadowMoverWords vec4s each: the world box each holds now
-  // (lo, hi), then the three rows of its world_to_previous_world (where a
-  // point of it now was). A shadow they cast moved with them: its history
-  // is where their shadow was (temporal_history.glsl.h, follow_shadow).
+  // (lo, hi; lo.w = 1 where its mesh deformed too), then the three rows of
+  // its world_to_previous_world (where a point of it now was). A shadow
+  // they cast moved with them: its history is where their shadow was
+  // (temporal_history.glsl.h, follow_shadow).
   // shadow_counts.x of them; 0 where none moved, or more than
   // kMaxShadowMovers did.
   vec4 shadow_movers[kShadowMoverWords * kMaxShadowMovers];

@@ -125,6 +125,7 @@ struct History {
   float followed_shadow;
   float followed_samples;
   bool followed_alone;  // ... and the light path meets no caster that stayed (what moved alone shadows it)
+  bool shadow_carried;  // a moving surface whose shadow moved with it (shadow_moved_with_surface)
 };
 
 // The first of the casters that moved (frame.shadow_movers) that the cone
@@ -146,6 +147,60 @@ bool path_meets_still_caster(vec3 p, LightCone cone) {
     if (s.x <= s.y) return true;
   }
   return false;
+}
+
+// Whether mover i moved along alone: no turn or scale in its motion (its
+// world_to_previous_world's rows), and its mesh kept its shape.
+bool moved_along(uint i) {
+  uint words = kShadowMoverWords * i;
+  if (frame.shadow_movers[words].w != 0.0) return false;  // (deformed)
+  for (uint row = 0u; row < 3u; ++row) {
+    vec3 unit = vec3(row == 0u ? 1.0 : 0.0, row == 1u ? 1.0 : 0.0, row == 2u ? 1.0 : 0.0);
+    if (any(greaterThan(abs(frame.shadow_movers[words + 2u + row].xyz - unit), vec3(1e-4)))) return false;
+  }
+  return true;
+}
+
+// Whether movers i and j moved by the same motion.
+bool moved_together(uint i, uint j) {
+  for (uint row = 2u; row < kShadowMoverWords; ++row)
+    if (any(greaterThan(abs(frame.shadow_movers[kShadowMoverWords * i + row] -
+                            frame.shadow_movers[kShadowMoverWords * j + row]), vec4(1e-4))))
+      return false;
+  return true;
+}
+
+// Whether the shadow on a point p of a moving surface moved with it: p lies
+// on a caster that only moved along (its box holds p), and every path from
+// p to a light whose paths cross the changed box goes to a sun and meets
+// only casters that moved along with it. A sun's light then reaches p past
+// the same surfaces as before, so the shadow there (a moving bolt's threads
+// shading each other) is history's, and where this frame's sample differs
+// from it, that is the sample's noise: the resolve's moved-shadow test
+// allows for it (temporal_resolve.comp). Tested as any moved shadow, the
+// noise restarted such history at almost every step, and a moving caster's
+// self-shadows were as speckled as one sample. A turn, a deformation, a
+// light that is not a sun, or a caster on the path that did not move with
+// p keeps the plain test.
+bool shadow_moved_with_surface(vec3 p) {
+  if (pc.same_lighting != 1u) return false;
+  int own = -1;
+  for (uint i = 0u; i < frame.shadow_counts.x && own < 0; ++i)
+    if (all(greaterThanEqual(p, frame.shadow_movers[kShadowMoverWords * i].xyz)) &&
+        all(lessThanEqual(p, frame.shadow_movers[kShadowMoverWords * i + 1u].xyz)) && moved_along(i))
+      own = int(i);
+  if (own < 0) return false;
+  for (int l = 0; l < pc.light_count; ++l) {
+    if (!light_path_crosses_change(p, l)) continue;
+    LightCone cone = light_cone(p, lights[l]);
+    if (!cone.sun || path_meets_still_caster(p, cone)) return false;
+    for (uint i = 0u; i < frame.shadow_counts.x; ++i) {
+      vec2 span = cone_span_in_box(p, cone, frame.shadow_movers[kShadowMoverWords * i].xyz,
+                                   frame.shadow_movers[kShadowMoverWords * i + 1u].xyz);
+      if (span.x <= span.y && !moved_together(i, uint(own))) return false;
+    }
+  }
+  return true;
 }
 
 // The Catmull-Rom weights of texels -1, 0, 1 and 2 along each axis, for a
@@ -301,6 +356,7 @@ History find_history(ivec2 pixel, vec4 position) {
   h.followed_shadow = 0.0;
   h.followed_samples = 0.0;
   h.followed_alone = false;
+  h.shadow_carried = false;
   vec4 motion = imageLoad(g_motion, pixel);
   h.previous_depth = motion.z;
   h.on_ray = position.xyz;
@@ -430,6 +486,7 @@ History find_history(ivec2 pixel, vec4 position) {
   // to offsets the still frames did not take); away from what moved, that
   // is the jitter, not motion, so its full history counts here.
   h.stays = all(lessThan(abs(at - vec2(pixel)), vec2(1e-3)));
+  h.shadow_carried = h.shadow_may_move && !h.stays && shadow_moved_with_surface(position.xyz);
   h.still = pc.same_lighting == 1u && min(h.full_samples, float(pc.history_samples)) >= float(pc.history_samples) &&
             !h.front_moved && h.stays;
   h.away = background || !in_contact_with_change(position.xyz);
@@ -482,7 +539,8 @@ bool history_may_be_short(History h) { return h.disoccluded || (h.shadow_may_mov
 // moments (Combined, Shadow pass) and its samples in the flags' word above
 // kHistoryFollowedShift.
 const uint kHistoryDisoccluded = 1u, kHistoryFrontMoved = 2u, kHistoryStill = 4u, kHistoryAway = 8u,
-           kHistoryShadowMayMove = 16u, kHistoryFollowedAlone = 32u, kHistoryFollowedShift = 8u;
+           kHistoryShadowMayMove = 16u, kHistoryFollowedAlone = 32u, kHistoryShadowCarried = 64u,
+           kHistoryFollowedShift = 8u;
 
 // A pixel's resolved accumulation, as a temporal pass decides it and then
 // writes it, each image once: on lavapipe every image access in a shader's
@@ -498,6 +556,7 @@ Resolved history_handed_on(History h) {
   uint flags = (h.disoccluded ? kHistoryDisoccluded : 0u) | (h.front_moved ? kHistoryFrontMoved : 0u) |
                (h.still ? kHistoryStill : 0u) | (h.away ? kHistoryAway : 0u) |
                (h.shadow_may_move ? kHistoryShadowMayMove : 0u) | (h.followed_alone ? kHistoryFollowedAlone : 0u) |
+               (h.shadow_carried ? kHistoryShadowCarried : 0u) |
                (uint(h.followed_samples) << kHistoryFollowedShift);
   return Resolved(vec4(h.color.rgb, float(flags)), vec4(h.shadow, h.samples, h.nearest, h.farthest),
                   vec4(h.followed_color, h.followed_shadow));
@@ -529,6 +588,7 @@ History handed_history(ivec2 pixel) {
   h.followed_shadow = followed.a;
   h.followed_samples = float(flags >> kHistoryFollowedShift);
   h.followed_alone = (flags & kHistoryFollowedAlone) != 0u;
+  h.shadow_carried = (flags & kHistoryShadowCarried) != 0u;
   return h;
 }
 #endif

@@ -80,13 +80,17 @@ const float kSameShadow = 0.02;
 // interleaved random numbers (sdf_march.glsl.h) give neighbours samples
 // that complement each other.
 const float kShadowEdge = 0.1;  // (the Shadow pass difference that divides a neighbour's weight by e)
-vec3 filtered_sample(ivec2 pixel, vec3 p, vec3 current, inout float shadow) {
+// shadow_spread: the standard deviation of the Shadow pass over the pixel
+// and those neighbours (unweighted: this frame's noise there).
+vec3 filtered_sample(ivec2 pixel, vec3 p, vec3 current, inout float shadow, out float shadow_spread) {
   vec3 albedo = imageLoad(g_albedo, pixel).rgb;
+  shadow_spread = 0.0;
   if (any(lessThan(albedo, vec3(1e-3)))) return current;  // (no light to tell from the colour)
   vec3 n = imageLoad(g_normal, pixel).xyz;
   // The pixel itself (`current` and `shadow` are its own), then its neighbours.
   vec3 light = 2.0 * current / albedo;
   float shadows = 2.0 * shadow, weights = 2.0;
+  float shadow_sum = shadow, shadow_squares = shadow * shadow, on_surface = 1.0;  // (unweighted: the spread)
   const ivec2 kNeighbours[4] = ivec2[4](ivec2(2, 0), ivec2(-2, 0), ivec2(0, 2), ivec2(0, -2));
   for (int k = 0; k < 4; ++k) {
     ivec2 q = pixel + kNeighbours[k];
@@ -100,9 +104,12 @@ vec3 filtered_sample(ivec2 pixel, vec3 p, vec3 current, inout float shadow) {
     float w = exp(-edge * edge);
     light += w * imageLoad(accum_color, q).rgb / a;
     shadows += w * neighbour_shadow;
+    shadow_sum += neighbour_shadow, shadow_squares += neighbour_shadow * neighbour_shadow, on_surface += 1.0;
     weights += w;
   }
   shadow = shadows / weights;
+  float mean_shadow = shadow_sum / on_surface;
+  shadow_spread = sqrt(max(shadow_squares / on_surface - mean_shadow * mean_shadow, 0.0));
   return light / weights * albedo;
 }
 
@@ -118,9 +125,9 @@ Resolved resolve(ivec2 pixel, vec4 position, vec4 current, vec4 passes, History 
   // for a pixel settled whatever its shadow, most of a playback frame (one
   // call: lavapipe runs a call site's code in every lane of a group that
   // reaches it).
-  float shadow = passes.y;
+  float shadow = passes.y, shadow_spread = 0.0;
   if (surface && (h.disoccluded || h.shadow_may_move || !h.still || !h.away))
-    current.rgb = filtered_sample(pixel, position.xyz, current.rgb, shadow);
+    current.rgb = filtered_sample(pixel, position.xyz, current.rgb, shadow, shadow_spread);
   if (h.disoccluded) return Resolved(current, passes, sample_second);  // (where history cannot help: this sample alone)
   // A moved shadow followed to where it was (follow_shadow) stands for its
   // own samples, clipped as a moving surface's history is. It is taken where
@@ -147,7 +154,14 @@ Resolved resolve(ivec2 pixel, vec4 position, vec4 current, vec4 passes, History 
   // against history's. The box of what moved is a bound: most pixels whose
   // light paths cross it keep their shadow, and taking half of each frame's
   // new sample there made them shimmer.
-  bool shadow_moved = h.shadow_may_move && !followed && abs(shadow - h.shadow) >= kSameShadow;
+  // Where the shadow moved with its moving surface (shadow_carried), a
+  // difference within this frame's noise (twice the spread of the Shadow
+  // pass over the filter's pixels on this surface) is that noise. Beyond
+  // it, history is another surface's (read across an edge of a moving
+  // object, where a lit face meets one turned from the light) and is
+  // restarted as a moved shadow's.
+  float same_shadow = kSameShadow + (h.shadow_carried ? 2.0 * shadow_spread : 0.0);
+  bool shadow_moved = h.shadow_may_move && !followed && abs(shadow - h.shadow) >= same_shadow;
   bool still = h.still && !shadow_moved;
   if (still && h.away) return settled(pixel);
 

@@ -976,6 +976,70 @@ TEST_F(TemporalTest, TheBackgroundSettlesBehindAStillCamera) {
   EXPECT_EQ(unsettled, 0);
 }
 
+// A block standing on a slab (one mesh) casts a wide sun's noisy penumbra
+// on the slab. The mesh moves along x, a step at a time: the penumbra moves
+// with it, so the slab's history holds (the shadow moved with its surface),
+// and where one sample's noise is the only difference, history keeps its
+// samples; tested as a moved shadow, the noise restarted it at almost
+// every step. Under a point light that moves the penumbra over the slab,
+// the same steps restart it.
+Scene block_on_slab() {
+  Scene scene;
+  Mesh step = reference::box({-1.0f, -0.5f, 0.3f}, {1.0f, 0.5f, 0.4f});
+  reference::append(step, reference::box({-0.2f, -0.5f, 0.4f}, {0.2f, 0.5f, 0.9f}));
+  scene.meshes = {step, reference::sheet({-20, -20}, {20, 20}, 0.0f)};
+  scene.instances = {{0, glm::mat4(1.0f), glm::vec3(0.8f)}, {1, glm::mat4(1.0f), glm::vec3(0.8f)}};
+  return scene;
+}
+
+// The mean samples over the slab's penumbra after `steps` steps along x,
+// and the mean change of its brightness from a converged render of the
+// last pose against one sample's.
+struct CarriedPenumbra {
+  double samples, played_error, one_sample_error;
+};
+
+CarriedPenumbra penumbra_after_steps(const Light& light, int steps) {
+  GpuScene scene(testing::VulkanTest::context(), block_on_slab());
+  Renderer renderer(testing::VulkanTest::context());
+  RenderSettings settings = playback_settings();
+  settings.samples = 16;
+  draw_top_view(renderer, scene, {light}, glm::vec3(0.05f), settings, settings.samples);
+  const glm::mat4 still_ground(1.0f);
+  for (int step = 1; step <= steps; ++step) {
+    scene.set_transforms({glm::translate(glm::mat4(1.0f), glm::vec3(0.03f * float(step), 0, 0)), still_ground});
+    draw_top_view(renderer, scene, {light}, glm::vec3(0.05f), settings, 1);
+  }
+  const RenderOutput played = renderer.read();
+  Renderer converged_renderer(testing::VulkanTest::context());
+  draw_top_view(converged_renderer, scene, {light}, glm::vec3(0.05f), settings, settings.samples);
+  const RenderOutput converged = converged_renderer.read();
+  std::vector<size_t> penumbra;
+  for (size_t i = 0; i < converged.shadow.size(); ++i)
+    if (std::abs(converged.depth[i] - 9.6f) < 0.01f && converged.shadow[i] > 0.1f && converged.shadow[i] < 0.9f)
+      penumbra.push_back(i);
+  EXPECT_GT(penumbra.size(), 20u) << "the block's penumbra lies on the slab";
+  double samples = 0.0;
+  for (size_t i : penumbra) samples += played.samples[i];
+  return {samples / double(std::max<size_t>(penumbra.size(), 1)), mean_change(played, converged, penumbra),
+          one_sample_noise(scene, {light}, glm::vec3(0.05f), settings, converged, penumbra)};
+}
+
+TEST_F(TemporalTest, AShadowThatMovedWithItsSurfaceKeepsItsHistory) {
+  const CarriedPenumbra sun = penumbra_after_steps(wide_sun(), 4);
+  Light lamp;
+  lamp.type = LightType::Point;
+  lamp.position = {-3.0f, 0.0f, 3.5f};
+  lamp.radius = 0.5f;
+  lamp.energy = 400.0f;
+  const CarriedPenumbra point = penumbra_after_steps(lamp, 4);
+  std::printf("slab's penumbra after 4 steps: sun %.1f samples (error %.4f, one sample's %.4f); "
+              "point light %.1f samples\n", sun.samples, sun.played_error, sun.one_sample_error, point.samples);
+  EXPECT_GT(sun.samples, 8.0) << "history carried with the moving surface";
+  EXPECT_LT(sun.played_error, 0.5 * sun.one_sample_error);
+  EXPECT_LT(point.samples, 4.0) << "a point light's penumbra moved over the slab: restarted";
+}
+
 // The moved caster's box is a bound on where its shadow may have moved: a
 // pixel whose paths to the light cross it, but whose shadow this frame is
 // history's (within kSameShadow), keeps its history, or the lit ground
