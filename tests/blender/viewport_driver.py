@@ -15,10 +15,7 @@ Frame off (every pixel marches its lights), after EEVEE's;
 from one sample). --scale sets RTSDF's Viewport Scale (the share of the region's width and
 height it renders); --pixel-size sets Blender's viewport Pixel Size
 (render.preview_pixel_size: 1, 2, 4 or 8), which the engines that honour it
-(Cycles, EEVEE) use. Compare engines at the same pixel count: with
---compare-eevee and --scale but no --pixel-size, EEVEE's frame changes are
-timed at the Pixel Size nearest 1/S (Resolution Scale 0.5: Pixel Size 2,
-the same 522x333 pixels in a 1045x666 region), written as eevee_pixel_size.
+(Cycles, EEVEE) use. Compare engines at the same pixel count.
 
 --field-views only screenshots the viewport in each of RTSDF's field views
 (OUT_DIR/field_view_NAME.png; the slice at the mean height of the scene's
@@ -276,11 +273,6 @@ def steps():
     results["validation_messages"] = rtsdf_engine.last_view_draw.get("validation_messages", -1)
     screenshot("viewport_animated.png")
     if COMPARE_EEVEE:
-        if PIXEL_SIZE is None and SCALE is not None:
-            # (EEVEE at RTSDF's pixel count: at Blender's own pixel size it drew
-            # 4x the pixels of a Resolution Scale 0.5 viewport)
-            scene.render.preview_pixel_size = str(min((1, 2, 4, 8), key=lambda size: abs(math.log(size * SCALE))))
-        results["eevee_pixel_size"] = scene.render.preview_pixel_size
         eevee_times, _ = yield from frame_changes("BLENDER_EEVEE")
         results["eevee_frame_change_ms"] = {"median": 1000 * float(np.median(eevee_times)),
                                             "max": 1000 * float(np.max(eevee_times))}
