@@ -463,12 +463,12 @@ History find_history(ivec2 pixel, vec4 position) {
     bool saw_mover = stayed && (history_bits(pixel) & moved_bits) != 0u &&
                      (surface_bits(pixel, position) & moved_bits) == 0u;
     // (read where a nearer surface beside it was: whether history's front is
-    // nearer than that surface now)
-    // History's depths are the last frame's: moved first, as this surface
-    // moved in depth since (as the resolve moves them). Compared unmoved,
-    // the pixels of a surface moving away from the camera by more than
-    // depth_tolerance a step found history's nearest depth in front of them
-    // and counted as few samples at every step.
+    // nearer than that surface now; else whether it is nearer than this
+    // surface, history's depths moved first as this surface moved in depth
+    // since, as the resolve moves them: compared unmoved, the pixels of a
+    // surface moving away from the camera by more than depth_tolerance a
+    // step found history's nearest depth in front of them, and counted as
+    // few samples at every step)
     float own_change = background ? 0.0 : depth - h.previous_depth;
     bool front_nearer = dilated ? h.nearest + front_change < front_depth * (1.0 - pc.depth_tolerance)
                                 : h.nearest + own_change < depth * (1.0 - pc.depth_tolerance);
