@@ -83,6 +83,25 @@ class NativeModuleInBlender(unittest.TestCase):
         finally:
             np.set_printoptions(**before)
 
+    def test_a_viewport_reports_the_samples_of_each_pixel(self):
+        # With temporal reuse the draw hands back each pixel's samples (history's
+        # included): their mean over the pixels that show something is the
+        # effective sample count, and none stands for more than the setting's.
+        scene = cube_scene()
+        viewport = rtsdf_native.Session().viewport()
+        viewport.sync(scene)
+        view = {key: scene[key] for key in ("camera", "lights", "ambient", "width", "height")}
+        settings = {"samples": 4, "coarse_resolution": 16, "fine_resolution": 32, "temporal_reuse": True}
+        for _ in range(3):
+            out = viewport.draw(view, settings)
+        samples = out["samples"]
+        self.assertEqual(samples.shape, (scene["height"], scene["width"]))
+        shown = out["combined"][..., 3] > 0.0
+        self.assertTrue(shown.any())
+        self.assertAlmostEqual(float(samples[shown].mean()), out["effective_samples"], places=3)
+        self.assertLessEqual(float(samples.max()), settings["samples"])
+        self.assertEqual(float(samples[shown].min()), 3.0, "three frames drawn")
+
     def test_viewport_fine_sdf_reads_back(self):
         # A 2-unit cube: the fine SDF just inside its face is negative, just outside it the distance to the face.
         scene = cube_scene()
