@@ -125,7 +125,7 @@ struct History {
   float followed_shadow;
   float followed_samples;
   bool followed_alone;  // ... and the light path meets no caster that stayed (what moved alone shadows it)
-  bool shadow_carried;  // a moving surface whose shadow moved with it (shadow_moved_with_surface)
+  bool shadow_carried;  // a moving surface whose shadow moved with it (moving_along_with, path_moved_with)
 };
 
 // The first of the casters that moved (frame.shadow_movers) that the cone
@@ -170,35 +170,38 @@ bool moved_together(uint i, uint j) {
   return true;
 }
 
-// Whether the shadow on a point p of a moving surface moved with it: p lies
-// on a caster that only moved along (its box holds p), and every path from
-// p to a light whose paths cross the changed box goes to a sun and meets
-// only casters that moved along with it. A sun's light then reaches p past
-// the same surfaces as before, so the shadow there (a moving bolt's threads
-// shading each other) is history's, and where this frame's sample differs
-// from it, that is the sample's noise: the resolve's moved-shadow test
-// allows for it (temporal_resolve.comp). Tested as any moved shadow, the
-// noise restarted such history at almost every step, and a moving caster's
-// self-shadows were as speckled as one sample. A turn, a deformation, a
-// light that is not a sun, or a caster on the path that did not move with
-// p keeps the plain test.
-bool shadow_moved_with_surface(vec3 p) {
-  if (pc.same_lighting != 1u) return false;
-  int own = -1;
-  for (uint i = 0u; i < frame.shadow_counts.x && own < 0; ++i)
+// The shadow on a point p of a moving surface moved with it where p lies on
+// a caster that only moved along (moving_along_with: its box holds p), and
+// every path from p to a light whose paths cross the changed box goes to a
+// sun and meets only casters that moved along with it (path_moved_with).
+// A sun's light then reaches p past the same surfaces as before, so the
+// shadow there (a moving bolt's threads shading each other) is history's,
+// and where this frame's sample differs from it, that is the sample's
+// noise: the resolve's moved-shadow test allows for it
+// (temporal_resolve.comp). Tested as any moved shadow, the noise restarted
+// such history at almost every step, and a moving caster's self-shadows
+// were as speckled as one sample. A turn, a deformation, a light that is
+// not a sun, or a caster on the path that did not move with p keeps the
+// plain test.
+
+// The first mover whose box holds p and that moved along (-1: none).
+int moving_along_with(vec3 p) {
+  for (uint i = 0u; i < frame.shadow_counts.x; ++i)
     if (all(greaterThanEqual(p, frame.shadow_movers[kShadowMoverWords * i].xyz)) &&
         all(lessThanEqual(p, frame.shadow_movers[kShadowMoverWords * i + 1u].xyz)) && moved_along(i))
-      own = int(i);
-  if (own < 0) return false;
-  for (int l = 0; l < pc.light_count; ++l) {
-    if (!light_path_crosses_change(p, l)) continue;
-    LightCone cone = light_cone(p, lights[l]);
-    if (!cone.sun || path_meets_still_caster(p, cone)) return false;
-    for (uint i = 0u; i < frame.shadow_counts.x; ++i) {
-      vec2 span = cone_span_in_box(p, cone, frame.shadow_movers[kShadowMoverWords * i].xyz,
-                                   frame.shadow_movers[kShadowMoverWords * i + 1u].xyz);
-      if (span.x <= span.y && !moved_together(i, uint(own))) return false;
-    }
+      return int(i);
+  return -1;
+}
+
+// Whether the path from p to light l goes to a sun and meets only casters
+// that moved as mover `own` did.
+bool path_moved_with(vec3 p, int l, uint own) {
+  LightCone cone = light_cone(p, lights[l]);
+  if (!cone.sun || path_meets_still_caster(p, cone)) return false;
+  for (uint i = 0u; i < frame.shadow_counts.x; ++i) {
+    vec2 span = cone_span_in_box(p, cone, frame.shadow_movers[kShadowMoverWords * i].xyz,
+                                 frame.shadow_movers[kShadowMoverWords * i + 1u].xyz);
+    if (span.x <= span.y && !moved_together(i, own)) return false;
   }
   return true;
 }
@@ -476,17 +479,22 @@ History find_history(ivec2 pixel, vec4 position) {
                     within_box(history_front, frame.moved_lo, frame.moved_hi,
                                (pc.jitter_reach + 2.0) * pixel_width_at(history_front));
   }
+  h.stays = all(lessThan(abs(at - vec2(pixel)), vec2(1e-3)));
   int crossing = -1;  // (the light whose paths cross it, where one alone does)
+  int own = h.stays || background || pc.same_lighting != 1u ? -1 : moving_along_with(position.xyz);
+  h.shadow_carried = own >= 0;
   for (int l = 0; l < pc.light_count && !background; ++l)
-    if (light_path_crosses_change(position.xyz, l)) crossing = h.shadow_may_move ? -1 : l, h.shadow_may_move = true;
+    if (light_path_crosses_change(position.xyz, l)) {
+      crossing = h.shadow_may_move ? -1 : l, h.shadow_may_move = true;
+      h.shadow_carried = h.shadow_carried && path_moved_with(position.xyz, l, uint(own));
+    }
+  h.shadow_carried = h.shadow_carried && h.shadow_may_move;
   // Still: under the same lights and world, full history that stays on
   // screen where it was, with no moved object in front of it before (the
   // resolve leaves out, too, what lies in a moved shadow). A silhouette's
   // new sample may see a surface its history never did (the jitter goes on
   // to offsets the still frames did not take); away from what moved, that
   // is the jitter, not motion, so its full history counts here.
-  h.stays = all(lessThan(abs(at - vec2(pixel)), vec2(1e-3)));
-  h.shadow_carried = h.shadow_may_move && !h.stays && shadow_moved_with_surface(position.xyz);
   h.still = pc.same_lighting == 1u && min(h.full_samples, float(pc.history_samples)) >= float(pc.history_samples) &&
             !h.front_moved && h.stays;
   h.away = background || !in_contact_with_change(position.xyz);
