@@ -83,9 +83,6 @@ bool saw_depth(vec4 range, float depth) {
   return depth >= range.x * (1.0 - pc.depth_tolerance) && depth <= range.w * (1.0 + pc.depth_tolerance);
 }
 
-// The instances the samples of a pixel's history saw (their bits: see kHistoryBits).
-uint history_bits(ivec2 pixel) { return uint(imageLoad(history_moments, pixel).w); }
-
 bool same_depth(ivec2 q, float depth) {
   return saw_depth(imageLoad(history_passes, clamp(q, ivec2(0), pc.image_size - 1)), depth);
 }
@@ -126,6 +123,13 @@ struct History {
   float followed_samples;
   bool followed_alone;  // ... and the light path meets no caster that stayed (what moved alone shadows it)
   bool shadow_carried;  // a moving surface whose shadow moved with it (moving_along_with, path_moved_with)
+  // History's texel at this pixel as it is, read once: Combined, passes and
+  // second moments (whose w holds the instances its samples saw: see
+  // kHistoryBits). A pixel the keep pass keeps takes them (settled), each
+  // image read again costing it about a millisecond a site on lavapipe.
+  vec4 own_color;
+  vec4 own_passes;
+  vec4 own_moments;
 };
 
 // The first of the casters that moved (frame.shadow_movers) that the cone
@@ -360,6 +364,9 @@ History find_history(ivec2 pixel, vec4 position) {
   h.followed_samples = 0.0;
   h.followed_alone = false;
   h.shadow_carried = false;
+  h.own_color = vec4(0.0);
+  h.own_passes = vec4(0.0);
+  h.own_moments = imageLoad(history_moments, pixel);
   vec4 motion = imageLoad(g_motion, pixel);
   h.previous_depth = motion.z;
   h.on_ray = position.xyz;
@@ -420,6 +427,7 @@ History find_history(ivec2 pixel, vec4 position) {
     ivec2 corner = base + ivec2(k & 1, k >> 1);
     if (any(lessThan(corner, ivec2(0))) || any(greaterThanEqual(corner, pc.image_size))) continue;
     vec4 before = imageLoad(history_passes, corner);
+    if (corner == pixel) h.own_passes = before;
     h.full_samples = min(h.full_samples, before.z);
     if (!saw_depth(before, motion.z)) {
       if (!near_depth(corner, motion.z)) continue;
@@ -428,7 +436,9 @@ History find_history(ivec2 pixel, vec4 position) {
     vec2 bilinear = mix(1.0 - f, f, vec2(k & 1, k >> 1));
     float w = bilinear.x * bilinear.y;
     if (w <= 0.0) continue;
-    h.color += w * imageLoad(history_color, corner);
+    vec4 color = imageLoad(history_color, corner);
+    if (corner == pixel) h.own_color = color;
+    h.color += w * color;
     h.shadow += w * before.y;
     h.samples = min(h.samples, before.z);
     h.nearest = min(h.nearest, before.x);
@@ -463,7 +473,7 @@ History find_history(ivec2 pixel, vec4 position) {
     // on it, settled for good.
     uint moved_bits = frame.shadow_counts.z;
     bool stayed = all(lessThan(abs(at - vec2(pixel)), vec2(1e-3)));
-    bool saw_mover = stayed && (history_bits(pixel) & moved_bits) != 0u &&
+    bool saw_mover = stayed && (uint(h.own_moments.w) & moved_bits) != 0u &&
                      (surface_bits(pixel, position) & moved_bits) == 0u;
     // (read where a nearer surface beside it was: whether history's front is
     // nearer than that surface now; else whether it is nearer than this

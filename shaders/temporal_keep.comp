@@ -52,7 +52,7 @@ void main() {
   // its History handed on to the resolve.
   Resolved r;
   if (kept)
-    r = settled(pixel);
+    r = Resolved(h.own_color, h.own_passes, h.own_moments);  // (settled(pixel), as find_history read it)
   else
     r = history_handed_on(h);
   float seen = seen_depth(position);
