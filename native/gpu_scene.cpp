@@ -64,12 +64,25 @@ void GpuScene::mark_changed(uint32_t instance) {
     any = true;
   };
   grow(changes_.any_moved, changes_.moved);
-  if (std::binary_search(casters_.begin(), casters_.end(), instance)) grow(changes_.any, changes_.region);
+  if (!std::binary_search(casters_.begin(), casters_.end(), instance)) return;
+  grow(changes_.any, changes_.region);
+  if (changes_.many_casters) return;
+  auto own = std::find_if(changes_.casters.begin(), changes_.casters.end(),
+                          [instance](const auto& entry) { return entry.first == instance; });
+  if (own != changes_.casters.end()) {
+    bool grown = true;
+    grow(grown, own->second);
+  } else if (changes_.casters.size() < kMaxChangedCasters) {
+    changes_.casters.emplace_back(instance, b);
+  } else {
+    changes_.casters.clear();
+    changes_.many_casters = true;
+  }
 }
 
 GpuScene::Changes GpuScene::take_changes() {
   Changes taken = changes_;
-  changes_ = Changes{false, false, Bounds{}, false, Bounds{}};
+  changes_ = Changes{false, false, Bounds{}, false, Bounds{}, {}, false};
   return taken;
 }
 

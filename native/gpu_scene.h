@@ -100,12 +100,18 @@ class GpuScene {
   // instances cast shadows. The fine SDF retraces only near such changes.
   // `moved`: the same union over every instance that moved or deformed,
   // casting shadows or not (`any_moved`), for what the camera saw move.
+  // `casters`: each changed caster's own part of `region` (instance, box),
+  // while they are at most kMaxChangedCasters (else empty, and
+  // `many_casters`).
+  static constexpr size_t kMaxChangedCasters = gpu::kMaxShadowMovers;
   struct Changes {
     bool everything = true;
     bool any = false;
     Bounds region;
     bool any_moved = false;
     Bounds moved;
+    std::vector<std::pair<uint32_t, Bounds>> casters;
+    bool many_casters = false;
   };
   Changes take_changes();
   // The changes take_changes() would take now.

@@ -275,6 +275,17 @@ std::vector<glm::vec3> shadow_volume(const gpu::GpuLight& light, glm::vec3 lo, g
   return hull;
 }
 
+// The boxes the temporal passes test contact and light paths against
+// (temporal_history.glsl.h, changed_box): each changed caster's, or the one
+// holding them all.
+std::vector<Bounds> changed_boxes(const gpu::FrameData& frame) {
+  if (frame.shadow_counts.w == 0u) return {Bounds{glm::vec3(frame.changed_lo), glm::vec3(frame.changed_hi)}};
+  std::vector<Bounds> boxes;
+  for (uint32_t i = 0; i < frame.shadow_counts.w; ++i)
+    boxes.push_back({glm::vec3(frame.changed_casters[2 * i]), glm::vec3(frame.changed_casters[2 * i + 1])});
+  return boxes;
+}
+
 }  // namespace
 
 TileMask change_on_screen(const gpu::FrameData& frame, const std::vector<gpu::GpuLight>& lights,
@@ -321,13 +332,15 @@ TileMask change_on_screen(const gpu::FrameData& frame, const std::vector<gpu::Gp
     if (parts.is_empty()) return;
     region.add(parts.intersected(volume_tiles(volume, parts.bounds())));
   };
-  const glm::vec3 lo(frame.changed_lo), hi(frame.changed_hi);
-  const float contact = gpu::kContactReach * glm::distance(lo, hi);
-  add_seen_parts(corners(lo - contact, hi + contact));
-  for (const gpu::GpuLight& light : lights) {
-    const std::vector<glm::vec3> volume = shadow_volume(light, lo, hi, visible);
-    if (volume.empty()) return TileMask::whole(size);
-    add_seen_parts(volume);
+  for (const Bounds& changed : changed_boxes(frame)) {
+    const glm::vec3 lo = changed.lo, hi = changed.hi;
+    const float contact = gpu::kContactReach * glm::distance(lo, hi);
+    add_seen_parts(corners(lo - contact, hi + contact));
+    for (const gpu::GpuLight& light : lights) {
+      const std::vector<glm::vec3> volume = shadow_volume(light, lo, hi, visible);
+      if (volume.empty()) return TileMask::whole(size);
+      add_seen_parts(volume);
+    }
   }
   return region;
 }

@@ -142,6 +142,7 @@ struct FrameData {
   vec4 previous_camera_forward;
   // World box of what moved or deformed among the shadow casters since the
   // last frame (the union of their old and new bounds; lo.w = 0: nothing).
+  // Each of them alone is in changed_casters, where they are few.
   vec4 changed_lo, changed_hi;
   // The same over every instance, casting shadows or not (what the camera may
   // have seen move).
@@ -166,8 +167,16 @@ struct FrameData {
   // them (one holding them all where they are more than kMaxShadowMovers):
   // a light path that meets none of them is shadowed by what moved alone.
   vec4 still_casters[2 * kMaxShadowMovers];
+  // The shadow casters that moved or deformed since the last frame, each
+  // one's own part of changed_lo, hi (lo, hi: the union of its old and new
+  // bounds), shadow_counts.w of them; 0 where more than kMaxShadowMovers
+  // changed, and changed_lo, hi stands for them all. Several objects moving
+  // apart (a scene's animation) change little of the space between them,
+  // where one box holding them all took in every shadow on the ground.
+  vec4 changed_casters[2 * kMaxShadowMovers];
   // x: shadow movers, y: still casters (above); z: the history bits (kHistoryBits) of every
-  // instance placed elsewhere since the last frame, casting shadows or not.
+  // instance placed elsewhere since the last frame, casting shadows or not;
+  // w: changed casters (above).
   uvec4 shadow_counts;
 };
 
@@ -244,7 +253,7 @@ const float kKeptSample = -1.0;
 const float kShortHistorySample = -2.0;
 const uint kShortHistoryCountWord = 3u;
 // Where a still pixel is in contact with the casters that moved (and is
-// shaded anew): within this share of their box's diagonal of the box
+// shaded anew): within this share of a changed box's diagonal of that box
 // (temporal_history.glsl.h, in_contact_with_change).
 const float kContactReach = 0.25;
 
@@ -385,7 +394,7 @@ static_assert(sizeof(BvhNode) == 48, "BvhNode layout");
 static_assert(sizeof(WindingDipole) == 32, "WindingDipole layout");
 static_assert(sizeof(GpuLight) == 64, "GpuLight layout");
 static_assert(sizeof(FrameData) == 112 + 32 * kMaxSkyBlockers + 4 * 64 + 6 * 16 + 16 * kShadowMoverWords * kMaxShadowMovers +
-                                       32 * kMaxShadowMovers + 16,
+                                       2 * 32 * kMaxShadowMovers + 16,
               "FrameData layout");
 static_assert(sizeof(GBufferPush) == 128, "GBufferPush layout");
 static_assert(sizeof(GpuMaterial) == 32, "GpuMaterial layout");

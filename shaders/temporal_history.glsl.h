@@ -36,11 +36,26 @@ vec2 cone_span_in_box(vec3 p, LightCone cone, vec3 lo, vec3 hi) {
   return vec2(max(span.x, 0.0), min(span.y, cone.t_max));
 }
 
-// Whether the paths from p to light l cross the box of the casters that moved.
+// The boxes of the casters that moved or deformed: each one's
+// (frame.changed_casters), or where they are many one holding them all.
+uint changed_box_count() { return frame.changed_lo.w == 0.0 ? 0u : max(frame.shadow_counts.w, 1u); }
+
+void changed_box(uint i, out vec3 lo, out vec3 hi) {
+  bool each = frame.shadow_counts.w > 0u;
+  lo = each ? frame.changed_casters[2u * i].xyz : frame.changed_lo.xyz;
+  hi = each ? frame.changed_casters[2u * i + 1u].xyz : frame.changed_hi.xyz;
+}
+
+// Whether the paths from p to light l cross the box of a caster that moved.
 bool light_path_crosses_change(vec3 p, int l) {
-  if (frame.changed_lo.w == 0.0) return false;
-  vec2 span = cone_span_in_box(p, light_cone(p, lights[l]), frame.changed_lo.xyz, frame.changed_hi.xyz);
-  return span.x <= span.y;
+  LightCone cone = light_cone(p, lights[l]);
+  for (uint i = 0u; i < changed_box_count(); ++i) {
+    vec3 lo, hi;
+    changed_box(i, lo, hi);
+    vec2 span = cone_span_in_box(p, cone, lo, hi);
+    if (span.x <= span.y) return true;
+  }
+  return false;
 }
 
 // Whether p is within `distance` of the box lo, hi (lo.w = 0: an empty box).
@@ -51,7 +66,7 @@ bool within_box(vec3 p, vec4 lo, vec4 hi, float distance) {
 }
 
 // Where a still pixel is in contact with what moved: within this share of
-// the changed box's size (its diagonal) of the box. There the sky it sees
+// a changed box's size (its diagonal) of that box. There the sky it sees
 // changes fast with the motion (a contact shadow), and it is sampled anew as
 // a moving pixel is (the resolve keeps its history where this frame's
 // neighbourhood holds it). Beyond it, the sky's change follows the moved object's
@@ -63,8 +78,12 @@ bool within_box(vec3 p, vec4 lo, vec4 hi, float distance) {
 // renderer bounds the keep pass's region by it too (native/screen_region.h).
 
 bool in_contact_with_change(vec3 p) {
-  return within_box(p, frame.changed_lo, frame.changed_hi,
-                    kContactReach * length(frame.changed_hi.xyz - frame.changed_lo.xyz));
+  for (uint i = 0u; i < changed_box_count(); ++i) {
+    vec3 lo, hi;
+    changed_box(i, lo, hi);
+    if (within_box(p, vec4(lo, 1.0), vec4(hi, 1.0), kContactReach * length(hi - lo))) return true;
+  }
+  return false;
 }
 
 // The world width of a pixel at p (from the projection's first row: the

@@ -215,6 +215,34 @@ TEST(ScreenRegion, EachSeenBoxTakesItsOwnPartOfAContactVolume) {
     EXPECT_TRUE(together.holds_tile({int(tile % uint32_t(apart.tiles().x)), int(tile / uint32_t(apart.tiles().x))}));
 }
 
+// Two casters that moved, at y = -1.5 and 1.5, each with its own box
+// (FrameData::changed_casters): the region holds each one's shadow, but not
+// the ground between them, which the box holding both would take in.
+TEST(ScreenRegion, CastersThatMovedApartTakeTheirOwnShadowsNotTheGroundBetween) {
+  Light sun;
+  sun.direction = glm::normalize(glm::vec3(1, 0, -1));
+  sun.sun_angle = 0.02f;
+  gpu::FrameData frame = box_moved();
+  frame.changed_lo = frame.moved_lo = glm::vec4(-0.5f, -1.9f, 2.0f, 1.0f);
+  frame.changed_hi = frame.moved_hi = glm::vec4(0.5f, 1.9f, 3.0f, 1.0f);
+  const TileMask together = change_on_screen(frame, {to_gpu(sun)}, kGround, kSize, 1.0f);
+  frame.shadow_counts.w = 2;
+  for (int k = 0; k < 2; ++k) {
+    const float y = k == 0 ? -1.5f : 1.5f;
+    frame.changed_casters[2 * k] = glm::vec4(-0.5f, y - 0.4f, 2.0f, 1.0f);
+    frame.changed_casters[2 * k + 1] = glm::vec4(0.5f, y + 0.4f, 3.0f, 1.0f);
+  }
+  frame.moved_lo = frame.moved_hi = glm::vec4(0.0f);  // (the ground's own region only: nothing seen moved)
+  const TileMask apart = change_on_screen(frame, {to_gpu(sun)}, kGround, kSize, 1.0f);
+  for (float y : {-1.5f, 1.5f}) {
+    EXPECT_TRUE(apart.holds(seen_at(2.5f, y))) << "the shadow of the caster at y = " << y;
+    EXPECT_TRUE(together.holds(seen_at(2.5f, y)));
+  }
+  EXPECT_TRUE(together.holds(seen_at(2.5f, 0.0f)));
+  EXPECT_FALSE(apart.holds(seen_at(2.5f, 0.0f))) << "the ground between the two shadows";
+  std::printf("share of the image: each caster's box %.3f, one box %.3f\n", apart.share(), together.share());
+}
+
 TEST(ScreenRegion, NothingChangedIsEmpty) {
   gpu::FrameData frame{};
   frame.steady_world_to_clip = top_view();

@@ -1108,6 +1108,45 @@ TEST_F(TemporalTest, AStillCastersShadowBesideAMovedOneKeepsItsHistory) {
   EXPECT_LT(change, 0.01);
 }
 
+// Casters that move apart change little of the space between them: the
+// light paths from a still caster's shadow between two moving ones cross
+// the box that holds both movers, but neither mover's own box, and that
+// shadow keeps its history. Two cubes at y = +-1.2 move along x; the still
+// cube's penumbra at y = 0 is 0.6 from either one's box, twice the wide
+// sun's cone there. Tested against the box of both, its noisy first sample
+// restarted the penumbra's history.
+TEST_F(TemporalTest, AStillShadowBetweenTwoMovingCastersKeepsItsHistory) {
+  auto cubes_at = [](float moving_x) {
+    return std::vector<glm::mat4>{glm::translate(glm::mat4(1.0f), glm::vec3(moving_x, 1.2f, 0)), glm::mat4(1.0f),
+                                  glm::translate(glm::mat4(1.0f), glm::vec3(-0.5f, 0, 0)),
+                                  glm::translate(glm::mat4(1.0f), glm::vec3(moving_x, -1.2f, 0))};
+  };
+  Scene two_movers = cube_over_ground();
+  two_movers.instances.push_back({0, glm::mat4(1.0f), glm::vec3(0.8f)});
+  two_movers.instances.push_back({0, glm::mat4(1.0f), glm::vec3(0.8f)});
+  GpuScene scene(context(), two_movers);
+  scene.set_transforms(cubes_at(-0.5f));
+  Renderer renderer(context());
+  RenderSettings settings = playback_settings();
+  settings.samples = 16;
+  draw_top_view(renderer, scene, {wide_sun()}, glm::vec3(0.05f), settings, settings.samples);
+  const RenderOutput before = renderer.read();
+  scene.set_transforms(cubes_at(-0.4f));
+  draw_top_view(renderer, scene, {wide_sun()}, glm::vec3(0.05f), settings, 1);
+  const RenderOutput played = renderer.read();
+  int penumbra = 0, restarted = 0;
+  for (double x = -0.2; x <= 1.2; x += 4.0 / kSize)
+    for (double y = -0.4; y <= 0.4; y += 4.0 / kSize) {
+      const size_t i = pixel_at(x, y);
+      if (played.depth[i] < 9.9f || before.shadow[i] > 0.95f || before.shadow[i] < 0.05f) continue;
+      ++penumbra;
+      if (played.samples[i] <= 2.0f) ++restarted;
+    }
+  std::printf("the still cube's penumbra: %d pixels, %d of them restarted\n", penumbra, restarted);
+  ASSERT_GT(penumbra, 40);
+  EXPECT_EQ(restarted, 0);
+}
+
 // The noise of images of the floating cube against a converged one (256
 // frames, without temporal reuse): root mean square of the red channel's
 // difference over the pixels `pick` chooses, per pixel and of the means of
