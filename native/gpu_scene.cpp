@@ -40,6 +40,19 @@ uint64_t next_scene_id() {
 
 }  // namespace
 
+void BoxesApart::grow(uint32_t instance, const Bounds& box) {
+  if (many) return;
+  auto own = std::find_if(boxes.begin(), boxes.end(), [instance](const auto& entry) { return entry.first == instance; });
+  if (own != boxes.end()) {
+    own->second = {glm::min(own->second.lo, box.lo), glm::max(own->second.hi, box.hi)};
+  } else if (boxes.size() < gpu::kMaxShadowMovers) {
+    boxes.emplace_back(instance, box);
+  } else {
+    boxes.clear();
+    many = true;
+  }
+}
+
 GpuScene::GpuScene(const vk::Context& context, const Scene& scene)
     : context_(context), id_(next_scene_id()), scene_(scene) {
   scene_.validate();
@@ -64,25 +77,15 @@ void GpuScene::mark_changed(uint32_t instance) {
     any = true;
   };
   grow(changes_.any_moved, changes_.moved);
+  changes_.instances.grow(instance, b);
   if (!std::binary_search(casters_.begin(), casters_.end(), instance)) return;
   grow(changes_.any, changes_.region);
-  if (changes_.many_casters) return;
-  auto own = std::find_if(changes_.casters.begin(), changes_.casters.end(),
-                          [instance](const auto& entry) { return entry.first == instance; });
-  if (own != changes_.casters.end()) {
-    bool grown = true;
-    grow(grown, own->second);
-  } else if (changes_.casters.size() < kMaxChangedCasters) {
-    changes_.casters.emplace_back(instance, b);
-  } else {
-    changes_.casters.clear();
-    changes_.many_casters = true;
-  }
+  changes_.casters.grow(instance, b);
 }
 
 GpuScene::Changes GpuScene::take_changes() {
   Changes taken = changes_;
-  changes_ = Changes{false, false, Bounds{}, false, Bounds{}, {}, false};
+  changes_ = Changes{false, false, Bounds{}, false, Bounds{}, {}, {}};
   return taken;
 }
 

@@ -21,6 +21,16 @@ struct GpuMeshRange {
   uint32_t vertex_count = 0;  // as uploaded (with the vertices split between material slots)
 };
 
+// The boxes of a few changed instances, each its own (instance, box: the
+// union of its old and new bounds), while they are at most
+// gpu::kMaxShadowMovers; beyond, none (`many`), and their union stands for
+// them. Objects that move apart change little of the space between them.
+struct BoxesApart {
+  std::vector<std::pair<uint32_t, Bounds>> boxes;
+  bool many = false;
+  void grow(uint32_t instance, const Bounds& box);
+};
+
 class GpuScene {
  public:
   // Validates and uploads `scene`; throws rtsdf::Error on bad input.
@@ -100,18 +110,15 @@ class GpuScene {
   // instances cast shadows. The fine SDF retraces only near such changes.
   // `moved`: the same union over every instance that moved or deformed,
   // casting shadows or not (`any_moved`), for what the camera saw move.
-  // `casters`: each changed caster's own part of `region` (instance, box),
-  // while they are at most kMaxChangedCasters (else empty, and
-  // `many_casters`).
-  static constexpr size_t kMaxChangedCasters = gpu::kMaxShadowMovers;
+  // `casters` and `instances`: each one's own part of `region` and
+  // `moved` (see BoxesApart).
   struct Changes {
     bool everything = true;
     bool any = false;
     Bounds region;
     bool any_moved = false;
     Bounds moved;
-    std::vector<std::pair<uint32_t, Bounds>> casters;
-    bool many_casters = false;
+    BoxesApart casters, instances;
   };
   Changes take_changes();
   // The changes take_changes() would take now.

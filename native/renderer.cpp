@@ -516,13 +516,14 @@ void Renderer::begin(GpuScene& scene, const Camera& camera, const std::vector<Li
     if (last_changes_->any || last_changes_->everything)
       put(last_changes_->everything ? scene.bounds() : last_changes_->region, frame_data_.changed_lo,
           frame_data_.changed_hi);
-    // ... and each changed caster's own part of it, where they are few.
-    if (!last_changes_->everything && !last_changes_->many_casters) {
-      uint32_t count = 0;
-      for (const auto& [instance, box] : last_changes_->casters)
-        put(box, frame_data_.changed_casters[2 * count], frame_data_.changed_casters[2 * count + 1]), ++count;
-      frame_data_.shadow_counts.w = count;
-    }
+    // ... and each one's own part of them, where they are few.
+    auto put_apart = [&](const BoxesApart& apart, glm::vec4* boxes, uint32_t& count) {
+      count = 0;
+      if (last_changes_->everything || apart.many) return;
+      for (const auto& [instance, box] : apart.boxes) put(box, boxes[2 * count], boxes[2 * count + 1]), ++count;
+    };
+    put_apart(last_changes_->casters, frame_data_.changed_casters, frame_data_.boxes_apart.x);
+    put_apart(last_changes_->instances, frame_data_.moved_instances, frame_data_.boxes_apart.y);
     // What moved on screen, casting shadows or not (a silhouette's history may hold it).
     if (last_changes_->any_moved) put(last_changes_->moved, frame_data_.moved_lo, frame_data_.moved_hi);
   }

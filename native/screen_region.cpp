@@ -275,14 +275,14 @@ std::vector<glm::vec3> shadow_volume(const gpu::GpuLight& light, glm::vec3 lo, g
   return hull;
 }
 
-// The boxes the temporal passes test contact and light paths against
-// (temporal_history.glsl.h, changed_box): each changed caster's, or the one
-// holding them all.
-std::vector<Bounds> changed_boxes(const gpu::FrameData& frame) {
-  if (frame.shadow_counts.w == 0u) return {Bounds{glm::vec3(frame.changed_lo), glm::vec3(frame.changed_hi)}};
+// The boxes the temporal passes test against (temporal_history.glsl.h): of
+// the changed casters (changed_box: contact and light paths) or of every
+// instance that moved (within_moved_box: a silhouette's moved front); each
+// one's where they are few, else the one holding them all.
+std::vector<Bounds> boxes_apart(uint32_t count, const glm::vec4* apart, glm::vec4 lo, glm::vec4 hi) {
+  if (count == 0u) return {Bounds{glm::vec3(lo), glm::vec3(hi)}};
   std::vector<Bounds> boxes;
-  for (uint32_t i = 0; i < frame.shadow_counts.w; ++i)
-    boxes.push_back({glm::vec3(frame.changed_casters[2 * i]), glm::vec3(frame.changed_casters[2 * i + 1])});
+  for (uint32_t i = 0; i < count; ++i) boxes.push_back({glm::vec3(apart[2 * i]), glm::vec3(apart[2 * i + 1])});
   return boxes;
 }
 
@@ -310,7 +310,9 @@ TileMask change_on_screen(const gpu::FrameData& frame, const std::vector<gpu::Gp
     return tiles;
   };
   const PixelRect whole = PixelRect::whole(size);
-  if (frame.moved_lo.w != 0.0f) region.add(volume_tiles(corners(frame.moved_lo, frame.moved_hi), whole));
+  if (frame.moved_lo.w != 0.0f)
+    for (const Bounds& moved : boxes_apart(frame.boxes_apart.y, frame.moved_instances, frame.moved_lo, frame.moved_hi))
+      region.add(volume_tiles(corners(moved.lo, moved.hi), whole));
   Bounds visible = Bounds::empty();
   for (const Bounds& box : seen)
     if (!box.is_empty()) visible = visible.is_empty() ? box : Bounds{glm::min(visible.lo, box.lo), glm::max(visible.hi, box.hi)};
@@ -332,7 +334,7 @@ TileMask change_on_screen(const gpu::FrameData& frame, const std::vector<gpu::Gp
     if (parts.is_empty()) return;
     region.add(parts.intersected(volume_tiles(volume, parts.bounds())));
   };
-  for (const Bounds& changed : changed_boxes(frame)) {
+  for (const Bounds& changed : boxes_apart(frame.boxes_apart.x, frame.changed_casters, frame.changed_lo, frame.changed_hi)) {
     const glm::vec3 lo = changed.lo, hi = changed.hi;
     const float contact = gpu::kContactReach * glm::distance(lo, hi);
     add_seen_parts(corners(lo - contact, hi + contact));

@@ -169,15 +169,19 @@ struct FrameData {
   vec4 still_casters[2 * kMaxShadowMovers];
   // The shadow casters that moved or deformed since the last frame, each
   // one's own part of changed_lo, hi (lo, hi: the union of its old and new
-  // bounds), shadow_counts.w of them; 0 where more than kMaxShadowMovers
+  // bounds), boxes_apart.x of them; 0 where more than kMaxShadowMovers
   // changed, and changed_lo, hi stands for them all. Several objects moving
   // apart (a scene's animation) change little of the space between them,
   // where one box holding them all took in every shadow on the ground.
   vec4 changed_casters[2 * kMaxShadowMovers];
+  // The same of moved_lo, hi: every instance that moved or deformed,
+  // boxes_apart.y of them.
+  vec4 moved_instances[2 * kMaxShadowMovers];
   // x: shadow movers, y: still casters (above); z: the history bits (kHistoryBits) of every
-  // instance placed elsewhere since the last frame, casting shadows or not;
-  // w: changed casters (above).
+  // instance placed elsewhere since the last frame, casting shadows or not.
   uvec4 shadow_counts;
+  // x: changed_casters, y: moved_instances (above).
+  uvec4 boxes_apart;
 };
 
 // What a G-buffer pixel holds (its position's w, and GBufferPush.base_color.w).
@@ -394,7 +398,7 @@ static_assert(sizeof(BvhNode) == 48, "BvhNode layout");
 static_assert(sizeof(WindingDipole) == 32, "WindingDipole layout");
 static_assert(sizeof(GpuLight) == 64, "GpuLight layout");
 static_assert(sizeof(FrameData) == 112 + 32 * kMaxSkyBlockers + 4 * 64 + 6 * 16 + 16 * kShadowMoverWords * kMaxShadowMovers +
-                                       2 * 32 * kMaxShadowMovers + 16,
+                                       3 * 32 * kMaxShadowMovers + 2 * 16,
               "FrameData layout");
 static_assert(sizeof(GBufferPush) == 128, "GBufferPush layout");
 static_assert(sizeof(GpuMaterial) == 32, "GpuMaterial layout");

@@ -38,10 +38,10 @@ vec2 cone_span_in_box(vec3 p, LightCone cone, vec3 lo, vec3 hi) {
 
 // The boxes of the casters that moved or deformed: each one's
 // (frame.changed_casters), or where they are many one holding them all.
-uint changed_box_count() { return frame.changed_lo.w == 0.0 ? 0u : max(frame.shadow_counts.w, 1u); }
+uint changed_box_count() { return frame.changed_lo.w == 0.0 ? 0u : max(frame.boxes_apart.x, 1u); }
 
 void changed_box(uint i, out vec3 lo, out vec3 hi) {
-  bool each = frame.shadow_counts.w > 0u;
+  bool each = frame.boxes_apart.x > 0u;
   lo = each ? frame.changed_casters[2u * i].xyz : frame.changed_lo.xyz;
   hi = each ? frame.changed_casters[2u * i + 1u].xyz : frame.changed_hi.xyz;
 }
@@ -63,6 +63,16 @@ bool within_box(vec3 p, vec4 lo, vec4 hi, float distance) {
   if (lo.w == 0.0) return false;
   vec3 outside = max(max(lo.xyz - p, p - hi.xyz), 0.0);
   return length(outside) <= distance;
+}
+
+// Whether p lies within `distance` of the box of an instance that moved or
+// deformed (frame.moved_instances; where they are many, the one holding them all).
+bool within_moved_box(vec3 p, float distance) {
+  if (frame.moved_lo.w == 0.0) return false;
+  if (frame.boxes_apart.y == 0u) return within_box(p, frame.moved_lo, frame.moved_hi, distance);
+  for (uint i = 0u; i < frame.boxes_apart.y; ++i)
+    if (within_box(p, frame.moved_instances[2u * i], frame.moved_instances[2u * i + 1u], distance)) return true;
+  return false;
 }
 
 // Where a still pixel is in contact with what moved: within this share of
@@ -505,8 +515,7 @@ History find_history(ivec2 pixel, vec4 position) {
     bool front_nearer = dilated ? h.nearest + front_change < front_depth * (1.0 - pc.depth_tolerance)
                                 : h.nearest + own_change < depth * (1.0 - pc.depth_tolerance);
     h.front_moved = (front_nearer || saw_mover) &&
-                    within_box(history_front, frame.moved_lo, frame.moved_hi,
-                               (pc.jitter_reach + 2.0) * pixel_width_at(history_front));
+                    within_moved_box(history_front, (pc.jitter_reach + 2.0) * pixel_width_at(history_front));
   }
   h.stays = all(lessThan(abs(at - vec2(pixel)), vec2(1e-3)));
   int crossing = -1;  // (the light whose paths cross it, where one alone does)

@@ -216,8 +216,9 @@ TEST(ScreenRegion, EachSeenBoxTakesItsOwnPartOfAContactVolume) {
 }
 
 // Two casters that moved, at y = -1.5 and 1.5, each with its own box
-// (FrameData::changed_casters): the region holds each one's shadow, but not
-// the ground between them, which the box holding both would take in.
+// (FrameData::changed_casters and moved_instances): the region holds each
+// one and its shadow, but not the ground between them, which the box
+// holding both would take in.
 TEST(ScreenRegion, CastersThatMovedApartTakeTheirOwnShadowsNotTheGroundBetween) {
   Light sun;
   sun.direction = glm::normalize(glm::vec3(1, 0, -1));
@@ -226,20 +227,22 @@ TEST(ScreenRegion, CastersThatMovedApartTakeTheirOwnShadowsNotTheGroundBetween) 
   frame.changed_lo = frame.moved_lo = glm::vec4(-0.5f, -1.9f, 2.0f, 1.0f);
   frame.changed_hi = frame.moved_hi = glm::vec4(0.5f, 1.9f, 3.0f, 1.0f);
   const TileMask together = change_on_screen(frame, {to_gpu(sun)}, kGround, kSize, 1.0f);
-  frame.shadow_counts.w = 2;
+  frame.boxes_apart = glm::uvec4(2, 2, 0, 0);
   for (int k = 0; k < 2; ++k) {
     const float y = k == 0 ? -1.5f : 1.5f;
-    frame.changed_casters[2 * k] = glm::vec4(-0.5f, y - 0.4f, 2.0f, 1.0f);
-    frame.changed_casters[2 * k + 1] = glm::vec4(0.5f, y + 0.4f, 3.0f, 1.0f);
+    frame.changed_casters[2 * k] = frame.moved_instances[2 * k] = glm::vec4(-0.5f, y - 0.4f, 2.0f, 1.0f);
+    frame.changed_casters[2 * k + 1] = frame.moved_instances[2 * k + 1] = glm::vec4(0.5f, y + 0.4f, 3.0f, 1.0f);
   }
-  frame.moved_lo = frame.moved_hi = glm::vec4(0.0f);  // (the ground's own region only: nothing seen moved)
   const TileMask apart = change_on_screen(frame, {to_gpu(sun)}, kGround, kSize, 1.0f);
   for (float y : {-1.5f, 1.5f}) {
-    EXPECT_TRUE(apart.holds(seen_at(2.5f, y))) << "the shadow of the caster at y = " << y;
+    EXPECT_TRUE(apart.holds(seen_at(0.0f, y))) << "the caster at y = " << y;
+    EXPECT_TRUE(apart.holds(seen_at(2.5f, y))) << "its shadow";
     EXPECT_TRUE(together.holds(seen_at(2.5f, y)));
   }
-  EXPECT_TRUE(together.holds(seen_at(2.5f, 0.0f)));
-  EXPECT_FALSE(apart.holds(seen_at(2.5f, 0.0f))) << "the ground between the two shadows";
+  for (float x : {0.0f, 2.5f}) {
+    EXPECT_TRUE(together.holds(seen_at(x, 0.0f)));
+    EXPECT_FALSE(apart.holds(seen_at(x, 0.0f))) << "the ground between the two, at x = " << x;
+  }
   std::printf("share of the image: each caster's box %.3f, one box %.3f\n", apart.share(), together.share());
 }
 
