@@ -458,13 +458,15 @@ History find_history(ivec2 pixel, vec4 position) {
     vec4 before = imageLoad(history_passes, corner);
     if (corner == pixel) h.own_passes = before;
     h.full_samples = min(h.full_samples, before.z);
+    // (a texel of no weight, as three are where the point stayed on its
+    // pixel, is not searched around: near_depth reads up to 9 texels)
+    vec2 bilinear = mix(1.0 - f, f, vec2(k & 1, k >> 1));
+    float w = bilinear.x * bilinear.y;
+    if (w <= 0.0) continue;
     if (!saw_depth(before, motion.z)) {
       if (!near_depth(corner, motion.z)) continue;
       before.z = min(before.z, kNearbyHistorySamples);
     }
-    vec2 bilinear = mix(1.0 - f, f, vec2(k & 1, k >> 1));
-    float w = bilinear.x * bilinear.y;
-    if (w <= 0.0) continue;
     vec4 color = imageLoad(history_color, corner);
     if (corner == pixel) h.own_color = color;
     h.color += w * color;
