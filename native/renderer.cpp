@@ -516,7 +516,9 @@ void Renderer::begin(GpuScene& scene, const Camera& camera, const std::vector<Li
     if (last_changes_->any || last_changes_->everything)
       put(last_changes_->everything ? scene.bounds() : last_changes_->region, frame_data_.changed_lo,
           frame_data_.changed_hi);
-    // ... and each one's own part of them, where they are few.
+    // What moved on screen, casting shadows or not (a silhouette's history may hold it).
+    if (last_changes_->any_moved) put(last_changes_->moved, frame_data_.moved_lo, frame_data_.moved_hi);
+    // Each one's own box within those two, where they are few (BoxesApart).
     auto put_apart = [&](const BoxesApart& apart, glm::vec4* boxes, uint32_t& count) {
       count = 0;
       if (last_changes_->everything || apart.many) return;
@@ -524,8 +526,6 @@ void Renderer::begin(GpuScene& scene, const Camera& camera, const std::vector<Li
     };
     put_apart(last_changes_->casters, frame_data_.changed_casters, frame_data_.boxes_apart.x);
     put_apart(last_changes_->instances, frame_data_.moved_instances, frame_data_.boxes_apart.y);
-    // What moved on screen, casting shadows or not (a silhouette's history may hold it).
-    if (last_changes_->any_moved) put(last_changes_->moved, frame_data_.moved_lo, frame_data_.moved_hi);
   }
   const glm::ivec2 size(width, height);
   change_on_screen_ = TileMask(size);
