@@ -8,6 +8,7 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
+#include "gpu_scene.h"
 #include "lights.h"
 #include "screen_region.h"
 
@@ -244,6 +245,29 @@ TEST(ScreenRegion, CastersThatMovedApartTakeTheirOwnShadowsNotTheGroundBetween) 
     EXPECT_FALSE(apart.holds(seen_at(x, 0.0f))) << "the ground between the two, at x = " << x;
   }
   std::printf("share of the image: each caster's box %.3f, one box %.3f\n", apart.share(), together.share());
+}
+
+// The boxes the renderer puts apart (GpuScene::Changes): each changed
+// instance's own, grown over its old and new places, while they are at most
+// kMaxShadowMovers; past that none, and the union stands for them all.
+TEST(BoxesApart, EachInstanceGrowsItsOwnBoxUntilTheyAreTooMany) {
+  BoxesApart apart;
+  apart.grow(3, {{0.0f, 0.0f, 0.0f}, {1.0f, 1.0f, 1.0f}});  // (where it was)
+  apart.grow(5, {{8.0f, 0.0f, 0.0f}, {9.0f, 1.0f, 1.0f}});
+  apart.grow(3, {{2.0f, 0.0f, 0.0f}, {3.0f, 1.0f, 1.0f}});  // (and where it is)
+  ASSERT_EQ(apart.boxes.size(), 2u);
+  EXPECT_FALSE(apart.many);
+  EXPECT_EQ(apart.boxes[0].first, 3u);
+  EXPECT_EQ(apart.boxes[0].second.lo.x, 0.0f);
+  EXPECT_EQ(apart.boxes[0].second.hi.x, 3.0f);
+  EXPECT_EQ(apart.boxes[1].second.lo.x, 8.0f) << "the other's box is its own";
+  for (uint32_t i = 10; apart.boxes.size() < gpu::kMaxShadowMovers; ++i) apart.grow(i, {{0.0f, 0.0f, 0.0f}, {1.0f, 1.0f, 1.0f}});
+  EXPECT_FALSE(apart.many);
+  apart.grow(100, {{0.0f, 0.0f, 0.0f}, {1.0f, 1.0f, 1.0f}});
+  EXPECT_TRUE(apart.many);
+  EXPECT_TRUE(apart.boxes.empty());
+  apart.grow(3, {{0.0f, 0.0f, 0.0f}, {1.0f, 1.0f, 1.0f}});
+  EXPECT_TRUE(apart.boxes.empty()) << "once too many, none is kept apart";
 }
 
 TEST(ScreenRegion, NothingChangedIsEmpty) {
