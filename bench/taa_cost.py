@@ -2,7 +2,7 @@
 """What temporal reuse (the viewport's TAA) adds to a playback step.
 
 usage: bench/taa_cost.py WORK_DIR SCENE[,SCENE...] [--runs N] [--size WxH] [--stages]
-                        [--exact-rays N] [--quick-first-frame]
+                        [--exact-rays N] [--quick-first-frame] [--apart I,J,...]
 
 WORK_DIR is a bench/run output's work directory (DIR/work: each scene's
 scene.pkl from Blender). For each scene a native viewport with rtsdf's
@@ -21,6 +21,10 @@ of those the keep pass) and all shading; the SDF and fine updates; the frame's w
 --exact-rays and --quick-first-frame set those two settings as the
 add-on's viewport has them (4 and on; bench/run's Preview row, which the
 script draws otherwise, leaves the native defaults).
+--apart plays another move in place of bench/run's: the instances listed
+(indices into the scene's instances) move apart at once, alternately along
++x and -x, each step by a tenth of their mean size (several objects
+animated together, as a scene's animation has them).
 """
 import argparse
 import importlib.machinery
@@ -37,9 +41,32 @@ bench = importlib.util.module_from_spec(_spec)
 _loader.exec_module(bench)
 
 
-def playback_steps(session, data, settings, temporal_reuse, size=None):
+def apart_poses(data, movers):
+    """show_pose's stand-in for --apart: step -> every instance's transform,
+    the instances `movers` moved apart along x (alternately + and -), each
+    step by a tenth of their mean size (the diagonal of their placed
+    vertices' box)."""
+    instances = data["before"]["instances"]
+    before = [np.array(instance["matrix"], np.float32) for instance in instances]
+    sizes = []
+    for i in movers:
+        points = np.asarray(data["before"]["meshes"][instances[i]["mesh"]]["positions"], np.float32)
+        placed = points @ before[i][:3, :3].T + before[i][:3, 3]
+        sizes.append(float(np.linalg.norm(placed.max(axis=0) - placed.min(axis=0))))
+    step_length = 0.1 * float(np.mean(sizes))
+
+    def pose(step):
+        transforms = [m.copy() for m in before]
+        for k, i in enumerate(movers):
+            transforms[i][0, 3] += (step_length if k % 2 == 0 else -step_length) * step
+        return transforms
+    return pose
+
+
+def playback_steps(session, data, settings, temporal_reuse, size=None, apart=None):
     """Median ms of a playback step in a viewport that had converged on the
-    still scene, and the medians of its stage timings (Viewport.draw's ms)."""
+    still scene, and the medians of its stage timings (Viewport.draw's ms).
+    apart: apart_poses' pose, played in place of bench/run's move."""
     viewport = session.viewport()
     viewport.sync(data["before"])
     view = bench.view_of(data["before"])
@@ -51,7 +78,10 @@ def playback_steps(session, data, settings, temporal_reuse, size=None):
             break
     times, stages, deformed = [], {}, set()
     for step in range(1, bench.ANIMATION_STEPS + 1):
-        bench.show_pose(viewport, data, step, deformed)
+        if apart:
+            viewport.set_transforms(apart(step))
+        else:
+            bench.show_pose(viewport, data, step, deformed)
         drawn = viewport.draw(view, settings)
         times.append(drawn["draw_ms"]["begin"] + drawn["draw_ms"]["frame"])
         for stage, ms in drawn["ms"].items():
@@ -69,6 +99,7 @@ def main():
     parser.add_argument("--stages", action="store_true", help="print the stage timings of the steps with reuse too")
     parser.add_argument("--exact-rays", type=int, help="exact rays per light and sample (the viewport's: 4)")
     parser.add_argument("--quick-first-frame", action="store_true", help="as the viewport draws a frame after a change")
+    parser.add_argument("--apart", help="instances (I,J,...) that move apart at once, in place of bench/run's move")
     parser.add_argument("--whole-image", action="store_true",
                         help="draw each playback step over the whole image (changed_region_only off), to compare")
     args = parser.parse_args()
@@ -85,7 +116,8 @@ def main():
     for scene in args.scenes.split(","):
         with open(os.path.join(args.work, scene, "scene.pkl"), "rb") as f:
             data = pickle.load(f)
-        if data["after"] is None:
+        apart = apart_poses(data, [int(i) for i in args.apart.split(",")]) if args.apart else None
+        if data["after"] is None and not apart:
             print(f"{scene}: no mover, skipped")
             continue
         session.forget_fields()
@@ -94,7 +126,7 @@ def main():
         stages = {False: {}, True: {}}
         for _ in range(args.runs):
             for reuse in (False, True):
-                ms, run_stages = playback_steps(session, data, settings, reuse, size)
+                ms, run_stages = playback_steps(session, data, settings, reuse, size, apart)
                 runs[reuse].append(ms)
                 for stage, stage_ms in run_stages.items():
                     stages[reuse].setdefault(stage, []).append(stage_ms)
