@@ -4,9 +4,12 @@ with Cycles, an object moved from Python, and frame changes (memory, and
 the time of a frame change plus redraw against EEVEE's in the same run).
 
 xvfb-run -a -s "-screen 0 1280x800x24" blender --window-geometry 0 0 1200 760 --addons rtsdf \
-    SCENE.blend --python tests/blender/viewport_driver.py -- OUT_DIR [--moving OBJECT] [--ground OBJECT] [--frames N]
-    [--compare-eevee] [--scale S] [--pixel-size N] [--compare-full-first-frame] [--compare-no-temporal-reuse] [--field-views]
+    SCENE.blend --python tests/blender/viewport_driver.py -- OUT_DIR [--moving OBJECT] [--also-moving OBJECT,...]
+    [--ground OBJECT] [--frames N] [--compare-eevee] [--scale S] [--pixel-size N] [--compare-full-first-frame] [--compare-no-temporal-reuse] [--field-views]
 
+--also-moving names more objects animated in the frame changes, each along
+a circle as the moving object, half a turn behind it (several objects
+animated at once).
 --ground names the receiver whose shadow masks are compared with Cycles'
 (default Ground: the sample scenes' ground plane; a terrain, say, elsewhere).
 --compare-full-first-frame times the frame changes again with Quick First
@@ -40,6 +43,7 @@ from bpy_extras.view3d_utils import location_3d_to_region_2d
 args = sys.argv[sys.argv.index("--") + 1:]
 OUT = args[0]
 MOVING = args[args.index("--moving") + 1] if "--moving" in args else "Sphere"
+ALSO_MOVING = args[args.index("--also-moving") + 1].split(",") if "--also-moving" in args else []
 GROUND = args[args.index("--ground") + 1] if "--ground" in args else "Ground"
 FRAMES = int(args[args.index("--frames") + 1]) if "--frames" in args else 100
 COMPARE_EEVEE = "--compare-eevee" in args
@@ -229,10 +233,13 @@ def steps():
     # Frame changes: the moving object animated along a circle; each change is
     # followed by one synchronous redraw (view_update + view_draw).
     scene.frame_start, scene.frame_end = 1, FRAMES
-    for f in range(1, FRAMES + 1):
-        angle = 2 * math.pi * f / FRAMES
-        moving.location = start_location + type(start_location)((0.5 * math.cos(angle) - 0.5, 0.5 * math.sin(angle), 0))
-        moving.keyframe_insert("location", frame=f)
+    movers = [(moving, 0.0)] + [(bpy.data.objects[name], math.pi) for name in ALSO_MOVING]
+    for mover, phase in movers:
+        start = mover.location.copy()
+        for f in range(1, FRAMES + 1):
+            angle = 2 * math.pi * f / FRAMES + phase
+            mover.location = start + type(start)((0.5 * math.cos(angle) - 0.5 * math.cos(phase), 0.5 * math.sin(angle), 0))
+            mover.keyframe_insert("location", frame=f)
 
     def frame_changes(engine_name, record=True):
         scene.render.engine = engine_name
