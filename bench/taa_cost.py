@@ -116,7 +116,10 @@ def main():
     for scene in args.scenes.split(","):
         with open(os.path.join(args.work, scene, "scene.pkl"), "rb") as f:
             data = pickle.load(f)
-        apart = apart_poses(data, [int(i) for i in args.apart.split(",")]) if args.apart else None
+        movers = [int(i) for i in args.apart.split(",")] if args.apart else []
+        if any(not 0 <= i < len(data["before"]["instances"]) for i in movers):
+            parser.error(f"--apart {args.apart}: {scene} has instances 0 to {len(data['before']['instances']) - 1}")
+        apart = apart_poses(data, movers) if movers else None
         if data["after"] is None and not apart:
             print(f"{scene}: no mover, skipped")
             continue
