@@ -478,6 +478,7 @@ History find_history(ivec2 pixel, vec4 position) {
   }
   h.disoccluded = weights < 1e-3;
   if (h.disoccluded) return h;
+  h.stays = all(lessThan(abs(at - vec2(pixel)), vec2(1e-3)));  // (where it was on screen)
   h.color /= weights;
   h.shadow /= weights;
   if (weights > 0.999 && h.samples >= kNearbyHistorySamples) sharpen_moved_history(base, f, motion.z, h);
@@ -503,8 +504,7 @@ History find_history(ivec2 pixel, vec4 position) {
     // wall, passed for the wall, and after the ivy moved their image stayed
     // on it, settled for good.
     uint moved_bits = frame.shadow_counts.z;
-    bool stayed = all(lessThan(abs(at - vec2(pixel)), vec2(1e-3)));
-    bool saw_mover = stayed && (uint(h.own_moments.w) & moved_bits) != 0u &&
+    bool saw_mover = h.stays && (uint(h.own_moments.w) & moved_bits) != 0u &&
                      (surface_bits(pixel, position) & moved_bits) == 0u;
     // (read where a nearer surface beside it was: whether history's front is
     // nearer than that surface now; else whether it is nearer than this
@@ -519,7 +519,6 @@ History find_history(ivec2 pixel, vec4 position) {
     h.front_moved = (front_nearer || saw_mover) &&
                     within_moved_box(history_front, (pc.jitter_reach + 2.0) * pixel_width_at(history_front));
   }
-  h.stays = all(lessThan(abs(at - vec2(pixel)), vec2(1e-3)));
   int crossing = -1;  // (the light whose paths cross it, where one alone does)
   int own = h.stays || background || pc.same_lighting != 1u ? -1 : moving_along_with(position.xyz);
   h.shadow_carried = own >= 0;
