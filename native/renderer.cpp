@@ -844,10 +844,18 @@ RenderOutput Renderer::read(bool passes) const {
   out.stats = stats_;
   out.samples_done = frame_;
   if (!accum_.color.handle()) return out;
-  out.combined = read_plane<float>(context_, accum_.color, 4);
+  // Both images in one submission, through the kept staging buffer: the
+  // viewport's read of a 633x385 image took 5.4 ms (median of 60 converged
+  // redraws) with a new buffer and a submission for each.
+  const std::vector<VkDeviceSize> at =
+      passes ? vk::download_images(context_, {&accum_.color, &accum_.passes}, 4 * sizeof(float), readback_)
+             : vk::download_images(context_, {&accum_.color}, 4 * sizeof(float), readback_);
+  const uint8_t* staged = static_cast<const uint8_t*>(readback_.mapped());
+  const size_t pixels = size_t(width_) * height_;
+  out.combined.resize(4 * pixels);
+  std::memcpy(out.combined.data(), staged + at[0], out.combined.size() * sizeof(float));
   if (passes) {
-    std::vector<float> all = read_plane<float>(context_, accum_.passes, 4);
-    const size_t pixels = size_t(width_) * height_;
+    const float* all = reinterpret_cast<const float*>(staged + at[1]);
     out.depth.resize(pixels);
     out.shadow.resize(pixels);
     out.samples.resize(pixels);

@@ -379,6 +379,8 @@ class Renderer {
   vk::Buffer light_buffer_;
   vk::Buffer frame_buffer_;
   Accumulation accum_;
+  // Where read() copies the image to, kept from read to read (a viewport reads every redraw).
+  mutable vk::Buffer readback_;
 
   // Temporal reuse: the last accumulation (history) while the first frame
   // after a change is resolved into resolved_, which then becomes accum_.

@@ -227,24 +227,38 @@ void shader_writes_to_compute(VkCommandBuffer cmd) {
 }
 
 Buffer download_image(const Context& context, const Image& image, VkDeviceSize bytes_per_texel) {
-  Buffer readback(context, image.texel_count() * bytes_per_texel, VK_BUFFER_USAGE_TRANSFER_DST_BIT,
-                  Buffer::Access::HostVisible);
+  Buffer readback;
+  download_images(context, {&image}, bytes_per_texel, readback);
+  return readback;
+}
+
+std::vector<VkDeviceSize> download_images(const Context& context, std::initializer_list<const Image*> images,
+                                          VkDeviceSize bytes_per_texel, Buffer& staging) {
+  std::vector<VkDeviceSize> offsets;
+  VkDeviceSize total = 0;
+  for (const Image* image : images) offsets.push_back(total), total += image->texel_count() * bytes_per_texel;
+  if (!staging.handle() || staging.size() < total)
+    staging = Buffer(context, total, VK_BUFFER_USAGE_TRANSFER_DST_BIT, Buffer::Access::HostVisible);
   context.submit_and_wait([&](VkCommandBuffer cmd) {
-    image_barrier(cmd, image.handle(), VK_IMAGE_LAYOUT_GENERAL, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
-                  VK_ACCESS_SHADER_WRITE_BIT, VK_ACCESS_TRANSFER_READ_BIT,
-                  VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT,
-                  VK_PIPELINE_STAGE_TRANSFER_BIT);
-    VkBufferImageCopy region{};
-    region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
-    region.imageExtent = {uint32_t(image.dims().x), uint32_t(image.dims().y), uint32_t(image.dims().z)};
-    vkCmdCopyImageToBuffer(cmd, image.handle(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, readback.handle(), 1, &region);
-    image_barrier(cmd, image.handle(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, VK_IMAGE_LAYOUT_GENERAL,
-                  VK_ACCESS_TRANSFER_READ_BIT, VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT,
-                  VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT);
+    size_t i = 0;
+    for (const Image* image : images) {
+      image_barrier(cmd, image->handle(), VK_IMAGE_LAYOUT_GENERAL, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
+                    VK_ACCESS_SHADER_WRITE_BIT, VK_ACCESS_TRANSFER_READ_BIT,
+                    VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT,
+                    VK_PIPELINE_STAGE_TRANSFER_BIT);
+      VkBufferImageCopy region{};
+      region.bufferOffset = offsets[i++];
+      region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+      region.imageExtent = {uint32_t(image->dims().x), uint32_t(image->dims().y), uint32_t(image->dims().z)};
+      vkCmdCopyImageToBuffer(cmd, image->handle(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, staging.handle(), 1, &region);
+      image_barrier(cmd, image->handle(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, VK_IMAGE_LAYOUT_GENERAL,
+                    VK_ACCESS_TRANSFER_READ_BIT, VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT,
+                    VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT);
+    }
     memory_barrier(cmd, VK_ACCESS_TRANSFER_WRITE_BIT, VK_ACCESS_HOST_READ_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT,
                    VK_PIPELINE_STAGE_HOST_BIT);
   });
-  return readback;
+  return offsets;
 }
 
 }  // namespace rtsdf::vk

@@ -113,5 +113,12 @@ void make_general(const Context& context, std::initializer_list<const Image*> im
 
 // Copies a whole colour image (in GENERAL layout) into a host-visible buffer and returns it.
 Buffer download_image(const Context& context, const Image& image, VkDeviceSize bytes_per_texel);
+// Copies whole colour images of `bytes_per_texel` (in GENERAL layout) one
+// after the other into `staging`, in one submission, and returns where each
+// starts. `staging` is (re)made host-visible where it is too small, else
+// reused: a caller that reads every frame (a viewport) keeps it, as a new
+// buffer's pages cost more to touch than the copy itself.
+std::vector<VkDeviceSize> download_images(const Context& context, std::initializer_list<const Image*> images,
+                                          VkDeviceSize bytes_per_texel, Buffer& staging);
 
 }  // namespace rtsdf::vk
