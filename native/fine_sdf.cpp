@@ -27,8 +27,8 @@ FineSdf::FineSdf(const vk::Context& context, std::shared_ptr<const FineTracePass
     : context_(context),
       pass_(pass ? std::move(pass) : std::make_shared<const FineTracePass>(context)),
       timer_(context, 8),
-      traced_(context, 2 * sizeof(uint32_t), VK_BUFFER_USAGE_TRANSFER_DST_BIT, vk::Buffer::Access::HostVisible) {
-  std::memset(traced_.mapped(), 0, 2 * sizeof(uint32_t));
+      traced_(context, 3 * sizeof(uint32_t), VK_BUFFER_USAGE_TRANSFER_DST_BIT, vk::Buffer::Access::HostVisible) {
+  std::memset(traced_.mapped(), 0, 3 * sizeof(uint32_t));
 }
 
 void FineSdf::allocate(const GridSpec& grid) {
@@ -47,7 +47,7 @@ void FineSdf::allocate(const GridSpec& grid) {
   // beyond it the trace settles them itself.
   doubts_ = vk::Buffer(context_, (4 + grid.voxel_count() / 4 + kDoubtRoom) * sizeof(uint32_t),
                        VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT |
-                           VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                           VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
                        vk::Buffer::Access::DeviceOnly);
   dispatch_ = vk::Buffer(context_, 8 * sizeof(uint32_t),
                          VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT,
@@ -83,7 +83,7 @@ void FineSdf::update(GpuScene& scene, const CoarseSdf& coarse, const GridSpec& f
 }
 
 void FineSdf::update(const GpuScene::RayTargets& rays, const CoarseSdf& coarse, const GridSpec& fine_grid,
-                     const FineTraceSettings& settings, const Bounds* changed) {
+                     const FineTraceSettings& settings, const Bounds* changed, float surface_move) {
   if (settings.rays_per_texel < 1 || settings.rays_per_texel > 1024) throw Error("rays per texel must be 1 to 1024");
   if (!(settings.decay >= 0.0f && settings.decay < 1.0f)) throw Error("decay (alpha) must be in [0, 1)");
   if (settings.interleave < 1 || settings.interleave > 64) throw Error("interleave must be 1 to 64");
@@ -94,12 +94,14 @@ void FineSdf::update(const GpuScene::RayTargets& rays, const CoarseSdf& coarse, 
     pass_->record(cmd, rays,
                   {coarse.grid(), coarse.distance(), coarse.beta_world(), grid_, distance_, history_, trace_list_, dispatch_,
                    brick_state_, near_bricks_, doubts_},
-                  settings, {frame_, frame_ == 0, changed}, &timer_);
+                  settings, {frame_, frame_ == 0, changed, surface_move}, &timer_);
     vk::memory_barrier(cmd, VK_ACCESS_SHADER_WRITE_BIT, VK_ACCESS_TRANSFER_READ_BIT,
                        VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT);
-    // (the dispatch buffer's words 3 and 4: texels traced and improved)
+    // (the dispatch buffer's words 3 and 4: texels traced and improved; the doubts' first: their count)
     VkBufferCopy counts{3 * sizeof(uint32_t), 0, 2 * sizeof(uint32_t)};
     vkCmdCopyBuffer(cmd, dispatch_.handle(), traced_.handle(), 1, &counts);
+    VkBufferCopy doubted{0, 2 * sizeof(uint32_t), sizeof(uint32_t)};
+    vkCmdCopyBuffer(cmd, doubts_.handle(), traced_.handle(), 1, &doubted);
     vk::memory_barrier(cmd, VK_ACCESS_TRANSFER_WRITE_BIT, VK_ACCESS_HOST_READ_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT,
                        VK_PIPELINE_STAGE_HOST_BIT);
   });
@@ -119,7 +121,7 @@ std::vector<float> FineSdf::read_distance() const {
 }
 
 uint32_t FineSdf::read_count(int which) const {
-  uint32_t counts[2] = {};  // texels traced, improved
+  uint32_t counts[3] = {};  // texels traced, improved, doubted
   std::memcpy(counts, traced_.mapped(), sizeof counts);
   return counts[which];
 }

@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstring>
+#include <limits>
 #include <unordered_map>
 #include <utility>
 
@@ -33,6 +34,13 @@ vk::Buffer storage(const vk::Context& context, const std::vector<T>& data) {
   return vk::upload_buffer(context, data.data(), data.size() * sizeof(T), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
 }
 
+// The farthest any vertex moved from `before` to `after` (the same triangles).
+double largest_move(const std::vector<glm::vec3>& before, const std::vector<glm::vec3>& after) {
+  float largest = 0.0f;
+  for (size_t i = 0; i < before.size(); ++i) largest = std::max(largest, glm::length(after[i] - before[i]));
+  return double(largest);
+}
+
 uint64_t next_scene_id() {
   static std::atomic<uint64_t> next{1};
   return next++;
@@ -58,6 +66,8 @@ GpuScene::GpuScene(const vk::Context& context, const Scene& scene)
   scene_.validate();
   extents_ = rtsdf::mesh_extents(scene_);
   mesh_versions_.assign(scene_.meshes.size(), 0);
+  mesh_travel_.assign(scene_.meshes.size(), 0.0);
+  mesh_triangles_versions_.assign(scene_.meshes.size(), 0);
   for (uint32_t i = 0; i < scene_.instances.size(); ++i)
     if (scene_.instances[i].casts_shadow) casters_.push_back(i);
   update_bounds();
@@ -416,6 +426,13 @@ void GpuScene::set_transforms(const std::vector<glm::mat4>& object_to_world) {
   bvh_build_ms_ = ms_since(start);
 }
 
+double GpuScene::mesh_move_since(uint32_t mesh, uint64_t version, double travel, double& moved) const {
+  const double now = mesh_travel_.at(mesh);
+  moved = mesh_triangles_versions_[mesh] > version || version > mesh_versions_[mesh] ? std::numeric_limits<double>::infinity()
+                                                                                     : now - travel;
+  return now;
+}
+
 std::vector<uint8_t> GpuScene::take_deformations() {
   std::vector<uint8_t> taken(scene_.meshes.size(), 0);
   std::swap(taken, deformed_since_);
@@ -462,6 +479,10 @@ void GpuScene::set_mesh(uint32_t mesh, Mesh geometry) {
     throw;
   }
   mesh_versions_[mesh]++;
+  if (same_triangles)
+    mesh_travel_[mesh] += largest_move(previous.positions, current.positions);
+  else
+    mesh_triangles_versions_[mesh] = mesh_versions_[mesh];
   for (uint32_t i = 0; i < scene_.instances.size(); ++i)
     if (scene_.instances[i].mesh == mesh) mark_changed(i);  // the new one
   update_bounds();

@@ -139,6 +139,13 @@ class GpuScene {
   // Counts the shape changes of a mesh (set_mesh or set_mesh_positions with
   // other positions or triangles than it has), from 0.
   uint64_t mesh_version(uint32_t mesh) const { return mesh_versions_.at(mesh); }
+  // The most any point of a mesh's surface moved since its version
+  // `version` (mesh_version), and that move's `travel` (what this returned
+  // then; 0 at version 0): the sum of each shape change's largest vertex move
+  // (each point of a triangle is a blend of its corners, and moves by the
+  // same blend of their moves); infinite where its triangles changed since.
+  // Returns the travel now, for the next call.
+  double mesh_move_since(uint32_t mesh, uint64_t version, double travel, double& moved) const;
   // Tells this scene from any other made in the process, even at the same address.
   uint64_t id() const { return id_; }
   // CPU milliseconds of the last BVH work (bottom levels built + top level); 0 before any.
@@ -171,6 +178,8 @@ class GpuScene {
   uint64_t id_;
   Scene scene_;
   std::vector<uint64_t> mesh_versions_;
+  std::vector<double> mesh_travel_;                // per mesh: the sum of its shape changes' largest vertex moves
+  std::vector<uint64_t> mesh_triangles_versions_;  // ... and its version when its triangles last changed
   std::vector<MeshTop> mesh_tops_;  // for mesh_rays(), made on first use (empty buffers: not yet)
   std::vector<uint32_t> casters_;  // instance indices
   Bounds bounds_;

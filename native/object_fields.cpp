@@ -515,7 +515,11 @@ void ObjectFields::refine(GpuScene& scene, MarchFields& march) {
   for (Field& f : fields_) {
     if (!due(f)) continue;
     const FineTraceSettings trace = trace_settings(settings_.fine, settings_.keep_history && f.deforms);
-    f.fine->update(scene.mesh_rays(f.mesh), *f.coarse, f.fine_grid, trace);
+    double moved;
+    f.traced_travel = scene.mesh_move_since(f.mesh, f.traced_version, f.traced_travel, moved);
+    f.traced_version = scene.mesh_version(f.mesh);
+    const float surface_move = moved < double(gpu::kUnknownSurfaceMove) ? float(moved) : gpu::kUnknownSurfaceMove;
+    f.fine->update(scene.mesh_rays(f.mesh), *f.coarse, f.fine_grid, trace, nullptr, surface_move);
     const uint32_t traced = f.fine->read_traced_texels(), improved = f.fine->read_improved_texels();
     stats_.traced_texels += traced;
     stats_.refined++;

@@ -154,6 +154,8 @@ class ObjectFields {
     bool unpacked = false;        // updated since its last packing
     bool deforms = false;         // rebuilt for a deformation since it was made
     uint64_t placed_generation = 0;  // its packed words' generation when placed
+    uint64_t traced_version = 0;  // the mesh's version at its last update, and its travel then (GpuScene::mesh_move_since)
+    double traced_travel = 0.0;
   };
   int update_limit() const;
   bool due(const Field& field) const { return field.updates < update_limit(); }

@@ -7,7 +7,7 @@
 // trilinear sample is never below all its corners): the test the packer
 // stores bricks by, so every texel a stored brick holds is classified.
 // Per brick: x = 1 + the last update it was near in (kept across updates),
-// y = this update's flags (kBrickNearNow, kBrickNearBefore). With coarse_beta.w = 0
+// y = this update's flags (kBrickNearNow, kBrickNearBefore). Without kFineNearSurfaceOnly
 // every brick is near (the whole dense fine SDF is kept up to date).
 #include "shared.h"
 #include "brick_layout.glsl.h"
@@ -27,7 +27,7 @@ void main() {
   if (index >= uint(count.x * count.y * count.z)) return;
   ivec3 brick = brick_at(index, count);
   ivec3 first = brick * int(kBrickCells), last = min(first + int(kBrickCells), pc.fine_dims.xyz - 1);
-  bool near = pc.coarse_beta.w == 0.0 || brick_near_band(first, last, pc.params.y);
+  bool near = (uint(pc.state.y) & kFineNearSurfaceOnly) == 0u || brick_near_band(first, last, pc.params.y);
   // (x is 0 where no update marked it: the first update clears the buffer)
   uint last_near = bricks[index].x;
   bool near_before = pc.coarse_dims.w == 0 && last_near == pc.schedule.y;

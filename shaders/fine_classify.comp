@@ -8,7 +8,7 @@
 // and seed centres, is off by at most half a voxel diagonal either way, where
 // c is always low. Soft shadows read this far field: penumbrae wider than the
 // band came out too dark at their outer edge with c.
-// A still field (coarse_beta.z = 1) lists only the texels whose last trace
+// A still field (kFineStill) lists only the texels whose last trace
 // still found a closer surface (history.x, see fine_trace.comp): the rest
 // have converged, and tracing them again would change nothing.
 // A work group per brick near the band (listed by fine_bricks_near.comp)
@@ -69,10 +69,10 @@ void classify(ivec3 p, bool fresh) {
     // texels were never traced has no signs, and shadows through solids
     // come out half lit. After a change in part of the scene only texels
     // near it are traced (on their turn); the rest keep their converged values.
-    bool focused = pc.coarse_beta.y != 0.0;
+    bool focused = (uint(pc.state.y) & kFineFocused) != 0u;
     bool in_focus = all(greaterThanEqual(p, unpack_seed(pc.schedule.z))) && all(lessThanEqual(p, unpack_seed(pc.schedule.w)));
     bool my_turn = (turn + pc.schedule.y) % pc.schedule.x == 0u && (!focused || in_focus);
-    bool still = pc.coarse_beta.z != 0.0;
+    bool still = (uint(pc.state.y) & kFineStill) != 0u;
     if (still && !fresh && my_turn) my_turn = history_improving(imageLoad(history, p));
     // In a field whose geometry changes between updates, every band texel
     // (in the focus) is listed every update: off its turn it casts no ray,
@@ -88,7 +88,7 @@ void classify(ivec3 p, bool fresh) {
       if (fresh && pc.coarse_dims.w == 0) imageStore(history, p, make_history(false, false, kNoTriangle, 0u, max(c + pc.params.z, 0.0), pc.params.w));
     }
   } else {
-    float far_field = c + pc.coarse_beta.x;
+    float far_field = c + pc.state.x;
     imageStore(fine, p, vec4(far_field));
     imageStore(history, p, make_history(false, false, kNoTriangle, 0u, far_field, pc.params.w));
   }

@@ -129,7 +129,7 @@ void main() {
   float c = sample_coarse(world);
 
   bool first_frame = pc.coarse_dims.w != 0;
-  bool still = pc.coarse_beta.z != 0.0;  // (only a still field's convergence is counted)
+  bool still = (uint(pc.state.y) & kFineStill) != 0u;  // (only a still field's convergence is counted)
   float alpha = pc.params.x;
   float target = max(c + pc.params.z, 0.0);  // (params.z: the bias that makes it an upper bound)
 #ifdef RTSDF_PROBE
@@ -218,9 +218,16 @@ void main() {
   // Off its turn, a texel keeps its sign unless the side of the plane of
   // its nearest kept triangle (of a volume) says otherwise: the surface may
   // have crossed it (or the plane's side is wrong there, past an edge).
+  // Not where the surface lies farther from it than any point of the
+  // surface moved since the last update (pc.state.z; half a voxel more for
+  // the kept triangles' error): it has not crossed the texel, and the side
+  // is no news. (Most doubts are the plane's: of a deforming character's
+  // 300-1,500 doubted texels an update, the winding number kept 75-95% on
+  // the side they were; this leaves out about half of them.)
   if (!on_turn) {
     bool volume = nearest_side != 0 && piece_thickness(nearest_triangle, nearest_instance) >= pc.fine_grid.w;
-    settled = !volume || (nearest_side > 0) == was_inside;
+    bool within_reach = nearest <= pc.state.z + 0.5 * pc.fine_grid.w;
+    settled = !volume || !within_reach || (nearest_side > 0) == was_inside;
     voted_inside = was_inside;
   }
   // A doubted sign is the winding number's, taken by the sign step (here

@@ -93,12 +93,16 @@ struct FinePush {
   vec4 coarse_grid;   // xyz = origin, w = voxel size (world)
   vec4 params;        // x = alpha, y = trace band d (world), z = decay target bias (world), w = ray length (world)
   uvec4 schedule;     // x = interleave K (each band texel is traced every K-th frame), y = frame,
-                      // z, w = first and last texel (packed like seeds) of the focus box, see coarse_beta.y
-  vec4 coarse_beta;   // x = beta (world): coarse value + beta = the distance between voxel and seed centres,
-                      // y = 1: trace every band texel in the focus box and none elsewhere (after a local change),
-                      // z = 1: a still field, tracing only texels still improving,
-                      // w = 1: only the bricks near the band are classified (fine_bricks_near.comp)
+                      // z, w = first and last texel (packed like seeds) of the focus box, see kFineFocused
+  vec4 state;         // x = beta (world): coarse value + beta = the distance between voxel and seed centres,
+                      // y = this update's flags (kFine*), z = the most any point of the surfaces moved since
+                      // the last update (world; kUnknownSurfaceMove where it is not known), w = 0
 };
+// FinePush::state.y's flags.
+const uint kFineFocused = 1u;          // trace every band texel in the focus box and none elsewhere (after a local change)
+const uint kFineStill = 2u;            // a still field, tracing only texels still improving
+const uint kFineNearSurfaceOnly = 4u;  // only the bricks near the band are classified (fine_bricks_near.comp)
+const float kUnknownSurfaceMove = 3.0e38;
 
 #define RTSDF_TRACE_GROUP 64
 

@@ -87,8 +87,8 @@ void FineTracePass::record(VkCommandBuffer cmd, const GpuScene::RayTargets& scen
                                : std::min(glm::length(extent), (settings.trace_band + 2.0f) * coarse_voxel + bias);
   push.params = glm::vec4(settings.decay, band, bias, ray_length);
   push.schedule = glm::uvec4(uint32_t(settings.trace_everywhere ? 1 : settings.interleave), frame, 0u, 0u);
-  push.coarse_beta = glm::vec4(beta_world, 0.0f, settings.skip_converged ? 1.0f : 0.0f,
-                               settings.near_surface_only && !settings.trace_everywhere ? 1.0f : 0.0f);
+  uint32_t flags = (settings.skip_converged ? gpu::kFineStill : 0u) |
+                   (settings.near_surface_only && !settings.trace_everywhere ? gpu::kFineNearSurfaceOnly : 0u);
   if (changed && !first_frame && !settings.trace_everywhere) {
     // The texels whose centres lie within a ray's reach (and a voxel) of the change.
     const glm::vec3 reach(ray_length + fine_grid.voxel_size);
@@ -101,8 +101,9 @@ void FineTracePass::record(VkCommandBuffer cmd, const GpuScene::RayTargets& scen
     auto pack = [](glm::ivec3 v) { return uint32_t(v.x) | uint32_t(v.y) << gpu::kSeedBits | uint32_t(v.z) << (2 * gpu::kSeedBits); };
     push.schedule.z = pack(first);
     push.schedule.w = pack(last);
-    push.coarse_beta.y = 1.0f;
+    flags |= gpu::kFineFocused;
   }
+  push.state = glm::vec4(beta_world, float(flags), turn.surface_move, 0.0f);
 
   vkCmdFillBuffer(cmd, trace_list.handle(), 0, 2 * sizeof(uint32_t), 0u);
   const uint32_t no_doubts[4] = {0u, 0u, 1u, 1u};  // (a count, then a dispatch of 0 x 1 x 1 groups)

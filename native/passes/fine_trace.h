@@ -62,6 +62,7 @@ struct FineTraceTurn {
   uint32_t frame;
   bool first_frame;
   const Bounds* changed;
+  float surface_move;  // the most any point of the surfaces moved since the last update (kUnknownSurfaceMove: not known)
 };
 
 class FineTracePass {

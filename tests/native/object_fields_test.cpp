@@ -411,6 +411,39 @@ TEST_F(ObjectFieldsTest, NewTrianglesReplaceTheMeshInPlace) {
   EXPECT_GT(view.renderer.stats().last_frame_traced_texels, 0u);
 }
 
+// How far a mesh's surface moved since a version (what a deforming mesh's
+// field is told at each update): the sum of the shape changes' largest
+// vertex moves since then, and infinite across new triangles.
+TEST_F(ObjectFieldsTest, AMeshsSurfaceMoveSinceAVersionSumsItsLargestVertexMoves) {
+  StillViewport view(context());
+  GpuScene& gpu_scene = view.gpu_scene;
+  Mesh box = view.scene.meshes[1];
+  double moved = -1.0;
+  const double start = gpu_scene.mesh_move_since(1, 0, 0.0, moved);
+  EXPECT_EQ(moved, 0.0);
+
+  box.positions[0].x += 0.25f;  // (one corner: the largest move)
+  for (size_t v = 1; v < box.positions.size(); ++v) box.positions[v].z += 0.1f;
+  gpu_scene.set_mesh(1, box);
+  box.positions[2].y -= 0.5f;
+  gpu_scene.set_mesh(1, box);
+  const uint64_t version = gpu_scene.mesh_version(1);
+  const double travel = gpu_scene.mesh_move_since(1, 0, start, moved);
+  EXPECT_NEAR(moved, 0.25 + 0.5, 1e-6);
+  gpu_scene.mesh_move_since(1, version, travel, moved);
+  EXPECT_EQ(moved, 0.0) << "nothing moved since";
+
+  box.positions[3].x += 0.125f;
+  gpu_scene.set_mesh(1, box);
+  gpu_scene.mesh_move_since(1, version, travel, moved);
+  EXPECT_NEAR(moved, 0.125, 1e-6);
+
+  std::swap(box.indices[0], box.indices[1]);  // (a triangle turned round: new triangles)
+  gpu_scene.set_mesh(1, box);
+  gpu_scene.mesh_move_since(1, version, travel, moved);
+  EXPECT_TRUE(std::isinf(moved));
+}
+
 // A still field retraces only its texels still improving (FineTraceSettings::
 // skip_converged): about half the rays, and the shadows of a CAD part and of
 // leaf cards (thin pieces, read as slabs) no further from raytraced's than
