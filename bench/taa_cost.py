@@ -2,7 +2,7 @@
 """What temporal reuse (the viewport's TAA) adds to a playback step.
 
 usage: bench/taa_cost.py WORK_DIR SCENE[,SCENE...] [--runs N] [--size WxH] [--stages]
-                        [--exact-rays N] [--quick-first-frame] [--apart I,J,...]
+                        [--exact-rays N] [--quick-first-frame] [--interleave K] [--apart I,J,...]
 
 WORK_DIR is a bench/run output's work directory (DIR/work: each scene's
 scene.pkl from Blender). For each scene a native viewport with rtsdf's
@@ -18,9 +18,13 @@ third, and the fastest run of each is the one least touched by it.
 too where the steps with and without temporal reuse went: the medians of the
 viewport's stage timings (the GPU's G-buffer, quad pass, temporal passes (and
 of those the keep pass) and all shading; the SDF and fine updates; the frame's wall time).
---exact-rays and --quick-first-frame set those two settings as the
-add-on's viewport has them (4 and on; bench/run's Preview row, which the
-script draws otherwise, leaves the native defaults).
+--exact-rays, --quick-first-frame and --interleave set those settings as
+the add-on's viewport has them (4, on and 4; bench/run's Preview row, which
+the script draws otherwise, leaves the native defaults, and traces every
+texel of a changing field at each update). A deforming mesh's field keeps
+the native viewport's room around it (bench/run's in_viewport), as in
+Blender: the row's tight grid would be fitted anew, and traced afresh, at
+every step.
 --apart plays another move in place of bench/run's: the instances listed
 (indices into the scene's instances) move apart at once, alternately along
 +x and -x, each step by a tenth of their mean size (several objects
@@ -99,6 +103,7 @@ def main():
     parser.add_argument("--stages", action="store_true", help="print the stage timings of the steps with reuse too")
     parser.add_argument("--exact-rays", type=int, help="exact rays per light and sample (the viewport's: 4)")
     parser.add_argument("--quick-first-frame", action="store_true", help="as the viewport draws a frame after a change")
+    parser.add_argument("--interleave", type=int, help="fine texels traced every K-th update (the viewport's: 4)")
     parser.add_argument("--apart", help="instances (I,J,...) that move apart at once, in place of bench/run's move")
     parser.add_argument("--whole-image", action="store_true",
                         help="draw each playback step over the whole image (changed_region_only off), to compare")
@@ -106,11 +111,13 @@ def main():
     size = tuple(int(n) for n in args.size.lower().split("x")) if args.size else None
     session = bench.sessions()[0]
     _, settings = bench.sweep("rtsdf", True, True)[0]
-    settings = dict(settings, samples=16)  # (the viewport's samples)
+    settings = dict(bench.in_viewport(settings), samples=16)  # (the viewport's samples, and its room around a deforming mesh)
     if args.exact_rays is not None:
         settings["exact_rays"] = args.exact_rays
     if args.quick_first_frame:
         settings["quick_first_frame"] = True
+    if args.interleave is not None:
+        settings["interleave"] = args.interleave
     if args.whole_image:
         settings["changed_region_only"] = False
     for scene in args.scenes.split(","):
